@@ -1,0 +1,58 @@
+/// @file mesh.h
+/// @brief The per-frame surface: a triangle soup with per-vertex velocities.
+///
+/// Every frame of a fluid sequence is an independent mesh (implicit-surface
+/// reconstruction): vertex counts and connectivity change from frame to frame.
+/// The mesh may be non-manifold, have boundaries and several components; the
+/// stages that need a manifold neighbourhood (patch creation, the atlas) build
+/// it locally. Positions in scene units, velocities in scene units per second.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace fluidtex {
+
+using Vec3 = Eigen::Vector3d;
+using Vec2 = Eigen::Vector2d;
+using Tri = std::array<int, 3>;
+
+struct FrameMesh {
+  std::vector<Vec3> positions;   ///< one per vertex, scene units
+  std::vector<Vec3> velocities;  ///< one per vertex, scene units / second
+  std::vector<Tri> triangles;    ///< counter-clockwise seen from outside
+
+  std::size_t num_vertices() const { return positions.size(); }
+  std::size_t num_faces() const { return triangles.size(); }
+  bool empty() const { return triangles.empty(); }
+};
+
+struct BBox {
+  Vec3 min = Vec3::Constant(0.0);
+  Vec3 max = Vec3::Constant(0.0);
+  double diagonal() const { return (max - min).norm(); }
+};
+
+/// Axis-aligned bounding box of the positions (all zeros for an empty mesh).
+BBox bounding_box(const FrameMesh& mesh);
+
+/// Unnormalised face normal (twice the area times the unit normal).
+Vec3 face_area_normal(const FrameMesh& mesh, std::size_t face);
+
+/// Total surface area.
+double surface_area(const FrameMesh& mesh);
+
+/// Mean edge length over all triangle edges (0 for an empty mesh).
+double mean_edge_length(const FrameMesh& mesh);
+
+/// Area-weighted unit vertex normals (zero vector for isolated vertices).
+std::vector<Vec3> vertex_normals(const FrameMesh& mesh);
+
+/// Connected components over shared vertices: component id per triangle,
+/// ids 0..count-1 in order of first appearance. Returns the count.
+int face_components(const FrameMesh& mesh, std::vector<int>& component_of_face);
+
+}  // namespace fluidtex

@@ -1,0 +1,36 @@
+// Helpers shared by the tests.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace fluidtex::test {
+
+/// A fresh, empty folder under the system temp dir, removed on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Names of the entries in `dir` (not recursive), sorted.
+std::vector<std::string> list_dir(const std::filesystem::path& dir);
+
+/// Reads a whole file as bytes.
+std::string read_file(const std::filesystem::path& path);
+
+/// Writes bytes to a file.
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+/// Runs the fluidtex executable with `args` (shell-quoted by the caller),
+/// capturing stdout+stderr into `output`; returns the exit code.
+int run_fluidtex(const std::string& args, std::string* output = nullptr);
+
+}  // namespace fluidtex::test
