@@ -15,8 +15,10 @@ namespace fs = std::filesystem;
 fs::path temporary_sibling(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const std::string name = "." + target.stem().string() + ".tmp-" + std::to_string(::getpid()) +
-                           "-" + std::to_string(counter++) + target.extension().string();
+  std::string name = ".";
+  name += target.stem().string();
+  name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  name += target.extension().string();
   return dir / name;
 }
 

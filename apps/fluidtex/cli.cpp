@@ -1,0 +1,218 @@
+#include "cli.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include <oneapi/tbb/global_control.h>
+
+#include "fluidtex/error.h"
+#include "fluidtex/exemplar_gen.h"
+#include "fluidtex/image_io.h"
+#include "fluidtex/info.h"
+#include "fluidtex/pipeline.h"
+#include "fluidtex/scenes.h"
+
+namespace fluidtex::cli {
+
+namespace {
+
+/// Messages on stderr; a single refreshing progress line when stderr is a
+/// terminal (never in logs, never with -q).
+class TerminalReporter : public Reporter {
+ public:
+  TerminalReporter(int verbosity, bool quiet)
+      : verbosity_(verbosity), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0),
+        start_(std::chrono::steady_clock::now()) {}
+  ~TerminalReporter() override { clear_line(); }
+
+  void info(const std::string& m) override {
+    if (!quiet_) print(m);
+  }
+  void verbose(const std::string& m) override {
+    if (!quiet_ && verbosity_ > 0) print(m);
+  }
+  void warn(const std::string& m) override { print("warning: " + m); }
+  void progress(std::size_t done, std::size_t total, const std::string& stage) override {
+    if (quiet_ || !tty_ || total == 0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double eta = done > 0 ? elapsed / static_cast<double>(done) * static_cast<double>(total - done) : 0.0;
+    char line[160];
+    std::snprintf(line, sizeof line, "\r\033[Kframe %zu/%zu  %-10s elapsed %s  ETA %s", done, total,
+                  stage.c_str(), clock_text(elapsed).c_str(), done > 0 ? clock_text(eta).c_str() : "--:--");
+    std::fputs(line, stderr);
+    std::fflush(stderr);
+    line_shown_ = true;
+  }
+
+ private:
+  static std::string clock_text(double seconds) {
+    const long s = static_cast<long>(seconds + 0.5);
+    char buf[32];
+    if (s >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    else std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
+    return buf;
+  }
+  void clear_line() {
+    if (line_shown_) std::fputs("\r\033[K", stderr);
+    line_shown_ = false;
+  }
+  void print(const std::string& m) {
+    clear_line();
+    std::fprintf(stderr, "%s\n", m.c_str());
+  }
+  int verbosity_;
+  bool quiet_;
+  bool tty_;
+  bool line_shown_ = false;
+  std::chrono::steady_clock::time_point start_, last_{};
+};
+
+/// Options every subcommand reading a sequence shares.
+void add_input_options(CLI::App* cmd, InputOptions& in) {
+  cmd->add_option("-i,--input", in.pattern,
+                  "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply")
+      ->required();
+  cmd->add_option("--frames", in.frames, "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)");
+  cmd->add_option("--fps", in.fps, "Frames per second; the frame step is 1/fps")->capture_default_str();
+  cmd->add_option("--velocity-attr", in.velocity_attr,
+                  "Velocity property names 'a,b,c' or a prefix P (P_x or Px...); default: vx vy vz, "
+                  "velocity_x..., v_x...");
+  cmd->add_flag("--velocity-from-positions", in.velocity_from_positions,
+                "Derive velocities from neighbouring frames by central differences (constant vertex "
+                "count and order; needed for OBJ input)");
+  cmd->add_flag("--strict", in.strict, "Reject non-manifold frames instead of carrying on");
+}
+
+std::unique_ptr<tbb::global_control> limit_threads(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               static_cast<std::size_t>(threads));
+}
+
+struct RunArgs {
+  JobOptions job;
+  std::string criterion = "ellipsoid";
+  std::string fading = "density";
+  int verbosity = 0;
+  bool quiet = false;
+  bool print_config = false;
+};
+
+void add_run(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* run = app.add_subcommand("run", "Track patches and synthesise the texture atlas of every frame");
+  run->set_config("--config", "", "Read options from a TOML file (see --print-config)");
+  add_input_options(run, args->job.input);
+  run->add_option("-o,--output", args->job.output.dir, "Output folder")->required();
+  run->add_option("-e,--exemplar", args->job.exemplar,
+                  "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB "
+                  "and linearised, float files as linear)");
+  run->add_option("--atlas", args->job.output.atlas_pattern,
+                  "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)");
+  run->add_option("--mesh", args->job.output.mesh_pattern,
+                  "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)");
+  run->add_flag("--resume", args->job.output.resume, "Continue after the last complete frame in OUT");
+  run->add_flag("--debug-views", args->job.output.debug_views,
+                "Write per-frame PLYs of the patches and of the disks coloured by state");
+  CLI::App* method = run;
+  visit_options(args->job.tracking, [&](const char* name, auto& field, const char* help) {
+    method->add_option(std::string("--") + name, field, help)->capture_default_str()->group("Method (Tables 3, 4)");
+  });
+  run->add_option("--criterion", args->criterion, "Poisson rejection: ellipsoid (paper), sphere, plane")
+      ->check(CLI::IsMember({"ellipsoid", "sphere", "plane"}))
+      ->capture_default_str()
+      ->group("Method (Tables 3, 4)");
+  run->add_option("--fading", args->fading, "Temporal weight: density (Eq. 6, paper) or linear (Eq. 5)")
+      ->check(CLI::IsMember({"density", "linear"}))
+      ->capture_default_str()
+      ->group("Method (Tables 3, 4)");
+  run->add_option("--threads", args->job.threads, "Worker threads (0 = all cores)")->capture_default_str();
+  run->add_option("--seed", args->job.seed, "Random seed")->capture_default_str();
+  run->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
+  run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
+  run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit");
+
+  run->callback([run, args, &exit_code]() {
+    if (args->print_config) {
+      std::cout << run->config_to_str(true, true);
+      exit_code = 0;
+      return;
+    }
+    args->job.tracking.criterion = criterion_from_string(args->criterion);
+    args->job.tracking.fading = fading_from_string(args->fading);
+    TerminalReporter reporter(args->verbosity, args->quiet);
+    const auto threads = limit_threads(args->job.threads);
+    const JobSummary summary = run_job(args->job, reporter);
+    reporter.info("fluidtex: " + std::to_string(summary.frames) + " frames in " +
+                  std::to_string(summary.seconds) + " s");
+    exit_code = 0;
+  });
+}
+
+void add_info(CLI::App& app, int& exit_code) {
+  auto in = std::make_shared<InputOptions>();
+  CLI::App* info = app.add_subcommand("info", "Describe a mesh sequence and the problems found in it");
+  add_input_options(info, *in);
+  info->callback([in, &exit_code]() {
+    const Sequence sequence(*in);
+    std::vector<FrameInfo> frames(sequence.size());
+    for (std::size_t i = 0; i < sequence.size(); ++i) frames[i] = inspect_frame(sequence, i);
+    std::cout << "sequence " << in->pattern << "\n" << format_info(frames, in->fps);
+    bool bad = false;
+    for (const FrameInfo& f : frames) bad = bad || !f.error.empty();
+    exit_code = bad ? 2 : 0;
+  });
+}
+
+void add_gen(CLI::App& app, int& exit_code) {
+  struct GenArgs {
+    std::string scene, dir, exemplar;
+    SceneOptions scene_options;
+    int exemplar_size = 512;
+    std::uint64_t seed = 1;
+  };
+  auto args = std::make_shared<GenArgs>();
+  std::string scenes;
+  for (const std::string& s : scene_names()) scenes += (scenes.empty() ? "" : ", ") + s;
+  std::string exemplars;
+  for (const std::string& s : exemplar_names()) exemplars += (exemplars.empty() ? "" : ", ") + s;
+  CLI::App* gen = app.add_subcommand("gen", "Write an example scene (PLY sequence with analytic velocities)");
+  gen->add_option("scene", args->scene, "Scene: " + scenes)->required();
+  gen->add_option("-o,--output", args->dir, "Output folder (frames are SCENE.####.ply)")->required();
+  gen->add_option("--frames", args->scene_options.frames, "Number of frames")->capture_default_str();
+  gen->add_option("--fps", args->scene_options.fps, "Frames per second")->capture_default_str();
+  gen->add_option("--resolution", args->scene_options.resolution,
+                  "Mesh density: grid cells (2D) or voxels (3D) across the domain")
+      ->capture_default_str();
+  gen->add_option("--exemplar", args->exemplar, "Also write a procedural exemplar OUT/NAME.png: " + exemplars);
+  gen->add_option("--exemplar-size", args->exemplar_size, "Exemplar size in pixels")->capture_default_str();
+  gen->add_option("--seed", args->seed, "Seed of the exemplar")->capture_default_str();
+  gen->callback([args, &exit_code]() {
+    const std::string pattern = write_scene(args->scene, args->dir, args->scene_options);
+    std::cout << "wrote " << args->scene_options.frames << " frames: " << pattern << "\n";
+    if (!args->exemplar.empty()) {
+      const std::string path = args->dir + "/" + args->exemplar + ".png";
+      write_image(path, make_exemplar(args->exemplar, args->exemplar_size, args->seed));
+      std::cout << "wrote exemplar: " << path << "\n";
+    }
+    exit_code = 0;
+  });
+}
+
+}  // namespace
+
+void add_subcommands(CLI::App& app, int& exit_code) {
+  add_run(app, exit_code);
+  add_info(app, exit_code);
+  add_gen(app, exit_code);
+}
+
+}  // namespace fluidtex::cli

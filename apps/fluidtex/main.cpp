@@ -1,1 +1,35 @@
-int main(){}
+// fluidtex: temporally coherent texture on the free surface of fluid
+// simulations (Gagnon et al. 2019). Exit codes: 0 success, 2 bad input
+// (including bad options), 1 internal failure.
+#include <clocale>
+#include <cstdio>
+#include <exception>
+#include <locale>
+
+#include "cli.h"
+#include "fluidtex/error.h"
+
+int main(int argc, char** argv) {
+  std::setlocale(LC_ALL, "C");
+  std::locale::global(std::locale::classic());
+  CLI::App app{"fluidtex: temporally coherent texture synthesis on the free surface of fluids\n"
+               "(deformable patches, Gagnon et al. 2019)",
+               "fluidtex"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "fluidtex 0.1.0");
+  int exit_code = 0;
+  fluidtex::cli::add_subcommands(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const fluidtex::InputError& e) {
+    std::fprintf(stderr, "fluidtex: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidtex: internal error: %s\n", e.what());
+    return 1;
+  }
+  return exit_code;
+}

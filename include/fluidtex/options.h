@@ -1,0 +1,85 @@
+/// @file options.h
+/// @brief Parameters of the method (Gagnon et al. 2019, Appendix A, Tables 3
+/// and 4) and of the job, each with its default from ALGORITHM.md. These
+/// structs are the single source of truth: the command line, `--help`, the
+/// config file and `--print-config` are generated from `visit_options`.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace fluidtex {
+
+/// Poisson-disk rejection criterion (Sec. 4, Figs. 3, 5).
+enum class Criterion {
+  Ellipsoid,  ///< the paper's: plane test AND k-criterion (Eq. 1)
+  Sphere,     ///< plain 3D distance < d (Fig. 3a), for ablations
+  Plane,      ///< plane test AND 3D distance < d (Fig. 3b), for ablations
+};
+
+/// Temporal weight K_t (Sec. 6.3).
+enum class Fading {
+  Density,  ///< Eq. 6: fades faster where more disks overlap (the paper's)
+  Linear,   ///< Eq. 5, Yu et al. 2011: fixed τ frames
+};
+
+const char* to_string(Criterion c);
+const char* to_string(Fading f);
+/// Throw InputError for an unknown name.
+Criterion criterion_from_string(const std::string& s);
+Fading fading_from_string(const std::string& s);
+
+/// Tracking parameters. Lengths in scene units; 0 for radius, thickness and
+/// max_projection means "derive from the first frame" (see resolve()).
+struct TrackingOptions {
+  double radius = 0.0;              ///< d: Poisson disk radius; 0 = 0.05 × first frame's bbox diagonal
+  double plane_angle = 0.5;         ///< pa: "same plane" when N_c·N > pa
+  double patch_vertex_angle = 0.5;  ///< pva: patch triangles need N_T·N > pva
+  double max_distortion = 3.0;      ///< δmax: Sorkine distortion at which Q_T = 0
+  double uv_scale = 1.0;            ///< s: uv scale applied at exemplar lookup
+  double max_projection = 0.0;      ///< mpt: max distance to re-project a vertex; 0 = 0.25 × d
+  int fade_frames = 48;             ///< τ: fading period in frames
+  double thickness = 0.0;           ///< cs: ellipsoid half-thickness along N; 0 = 0.25 × d
+  double kill_alpha = 0.25;         ///< α: kill distance is (1 − α)·d (Table 4)
+  double min_vertex_quality = 0.5;  ///< Q_vmin: a vertex below this distorts its patch (Table 4)
+  double selection_margin = 0.6;    ///< β: patch triangles are taken within (1 + β)·d of the centre
+  Criterion criterion = Criterion::Ellipsoid;
+  Fading fading = Fading::Density;
+
+  /// Throws InputError naming the option for an out-of-range value.
+  void validate() const;
+  /// A copy with the automatic lengths filled in from the first frame's
+  /// bounding-box diagonal.
+  TrackingOptions resolved(double first_frame_diagonal) const;
+};
+
+/// How to read the input sequence.
+struct InputOptions {
+  std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
+  std::string frames;                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
+  double fps = 24.0;                     ///< frames per second; dt = 1/fps
+  std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
+  bool velocity_from_positions = false;  ///< derive velocities by central differences
+  bool strict = false;                   ///< reject non-manifold frames instead of carrying on
+
+  void validate() const;
+};
+
+/// Visits every tracking option as (flag name, field reference, help text),
+/// in the order shown by --help and written by --print-config.
+template <class F>
+void visit_options(TrackingOptions& o, F&& f) {
+  f("radius", o.radius, "d: Poisson disk radius in scene units (0 = 0.05 x first frame's bounding-box diagonal)");
+  f("plane-angle", o.plane_angle, "pa: disks are in the same plane when the dot product of their normals exceeds this");
+  f("patch-vertex-angle", o.patch_vertex_angle, "pva: a patch keeps only triangles whose normal dot the disk normal exceeds this");
+  f("max-distortion", o.max_distortion, "delta_max: Sorkine distortion at which a triangle's quality reaches 0");
+  f("uv-scale", o.uv_scale, "s: scale of the uv coordinates at exemplar lookup (larger = smaller texture features)");
+  f("max-projection", o.max_projection, "mpt: patch vertices farther than this from the new surface are removed (0 = 0.25 x radius)");
+  f("fade-frames", o.fade_frames, "tau: fading period in frames");
+  f("thickness", o.thickness, "cs: ellipsoid half-thickness along the normal, below the smallest detail (0 = 0.25 x radius)");
+  f("kill-alpha", o.kill_alpha, "alpha: disks closer than (1 - alpha) x radius are faded out (Table 4)");
+  f("min-vertex-quality", o.min_vertex_quality, "Q_vmin: a patch with a vertex quality below this fades out (Table 4)");
+  f("selection-margin", o.selection_margin, "beta: patch triangles are selected within (1 + beta) x radius of the disk centre");
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs fluidtex's build dependencies (Debian 12 packages only) and builds
+# it in Release into ./build. Safe to run again: apt skips what is installed
+# and the build is incremental.
+#   scripts/setup.sh            install + build
+#   SKIP_APT=1 scripts/setup.sh build only
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
+  libopenimageio-dev libopenexr-dev libopencv-dev
+  libopenvdb-dev libboost-iostreams-dev
+  libgtest-dev
+)
+
+if [[ "${SKIP_APT:-0}" != 1 ]]; then
+  missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    SUDO=""
+    [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+    echo "setup: installing ${missing[*]}"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build --parallel "$(nproc)"
