@@ -1,0 +1,130 @@
+// End-to-end tests of the fluidtex executable: subcommands, exit codes,
+// error messages and the promise that bad input leaves no output behind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "fluidtex/scenes.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_fluidtex;
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+TEST(Cli, HelpAndVersion) {
+  std::string out;
+  EXPECT_EQ(run_fluidtex("--help", &out), 0);
+  EXPECT_NE(out.find("run"), std::string::npos);
+  EXPECT_NE(out.find("info"), std::string::npos);
+  EXPECT_NE(out.find("gen"), std::string::npos);
+  EXPECT_EQ(run_fluidtex("run --help", &out), 0);
+  EXPECT_NE(out.find("--plane-angle"), std::string::npos);
+  EXPECT_NE(out.find("--fade-frames"), std::string::npos);
+  EXPECT_NE(out.find("48"), std::string::npos);  // defaults are shown
+  EXPECT_EQ(run_fluidtex("--version", &out), 0);
+}
+
+TEST(Cli, UnknownOptionIsBadInput) {
+  std::string out;
+  EXPECT_EQ(run_fluidtex("run --no-such-option", &out), 2);
+  EXPECT_EQ(run_fluidtex("", &out), 2);
+}
+
+TEST(Cli, GenThenInfo) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.file("rot")) + " --frames 3 --resolution 12", &out), 0) << out;
+  EXPECT_EQ(test::list_dir(dir.path() / "rot"),
+            (std::vector<std::string>{"rotation.0001.ply", "rotation.0002.ply", "rotation.0003.ply"}));
+  ASSERT_EQ(run_fluidtex("info -i " + q(dir.file("rot/rotation.####.ply")), &out), 0) << out;
+  EXPECT_NE(out.find("3 frames (1..3)"), std::string::npos) << out;
+  EXPECT_NE(out.find("|velocity|"), std::string::npos) << out;
+  EXPECT_NE(out.find("bounding box"), std::string::npos) << out;
+}
+
+TEST(Cli, GenUnknownSceneIsBadInput) {
+  test::TempDir dir;
+  std::string out;
+  EXPECT_EQ(run_fluidtex("gen volcano -o " + q(dir.file("x")), &out), 2);
+  EXPECT_NE(out.find("volcano"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.file("x")) && !fs::is_empty(dir.file("x")));
+}
+
+TEST(Cli, InfoReportsABadFrameAndExits2) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0) << out;
+  test::write_file(dir.path() / "rotation.0003.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
+  EXPECT_EQ(run_fluidtex("info -i " + q(dir.file("rotation.####.ply")), &out), 2);
+  EXPECT_NE(out.find("rotation.0003.ply"), std::string::npos) << out;
+  EXPECT_NE(out.find("ERROR"), std::string::npos) << out;
+}
+
+TEST(Cli, RunMissingInputIsOneLineErrorAndNoOutput) {
+  test::TempDir dir;
+  std::string out;
+  EXPECT_EQ(run_fluidtex("run -i " + q(dir.file("none.####.ply")) + " -o " + q(dir.file("out")), &out), 2);
+  EXPECT_NE(out.find("none.####.ply"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST(Cli, RunUnreadableExemplarIsBadInputAndNoOutput) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0);
+  test::write_file(dir.path() / "tex.png", "not an image");
+  EXPECT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("tex.png")) +
+                             " -o " + q(dir.file("out")),
+                         &out),
+            2);
+  EXPECT_NE(out.find("tex.png"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST(Cli, RunRejectsBadOptionValues) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0);
+  const std::string base = "run -i " + q(dir.file("rotation.####.ply")) + " -o " + q(dir.file("out"));
+  EXPECT_EQ(run_fluidtex(base + " --max-distortion 0.5", &out), 2);
+  EXPECT_NE(out.find("--max-distortion"), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex(base + " --criterion cube", &out), 2);
+  EXPECT_EQ(run_fluidtex(base + " --atlas " + q(dir.file("a.exr")), &out), 2);  // no frame token
+  EXPECT_EQ(run_fluidtex(base + " --mesh " + q(dir.file("m.####.fbx")), &out), 2);
+  EXPECT_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("run -i x.####.ply -o o --radius 0.125 --fade-frames 30 --print-config", &out), 0);
+  EXPECT_NE(out.find("radius=0.125"), std::string::npos) << out;
+  EXPECT_NE(out.find("fade-frames=30"), std::string::npos) << out;
+  test::write_file(dir.path() / "params.toml", "radius = 0.25\nfade-frames = 12\ncriterion = \"sphere\"\n");
+  ASSERT_EQ(run_fluidtex("run -i x.####.ply -o o --config " + q(dir.file("params.toml")) + " --print-config", &out), 0)
+      << out;
+  EXPECT_NE(out.find("radius=0.25"), std::string::npos) << out;
+  EXPECT_NE(out.find("fade-frames=12"), std::string::npos) << out;
+  EXPECT_NE(out.find("criterion=\"sphere\""), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex("run -i x.####.ply -o o --config " + q(dir.file("missing.toml")), &out), 2);
+}
+
+TEST(Cli, RunWritesStatsPerFrame) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 10", &out), 0);
+  ASSERT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -o " + q(dir.file("out")), &out), 0)
+      << out;
+  const std::string stats = test::read_file(dir.path() / "out" / "stats.jsonl");
+  EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 3) << stats;
+  EXPECT_NE(stats.find("\"frame\":1,"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"patches\":{"), std::string::npos) << stats;
+}
+
+}  // namespace
+}  // namespace fluidtex

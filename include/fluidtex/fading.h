@@ -1,0 +1,41 @@
+/// @file fading.h
+/// @brief The four disk states and the temporal weight K_t (Gagnon et al.
+/// 2019, Sec. 5.4 and 6.3; Yu et al. 2011, Eq. 5).
+///
+/// Eq. 6 (density-based): fade-in K_t = min(1, t(ρ+1)/τ), fade-out
+/// K_t = max(0, 1 − (t − t_k)(ρ+1)/τ). Since ρ changes every frame, K_t is
+/// accumulated: K_t += (ρ+1)/τ per frame while fading in, −= while fading out
+/// (Eq. 6 with the current density; keeps K_t continuous). Eq. 5 (linear) is
+/// the same with ρ = 0. The first step happens on the frame a patch is
+/// created (or flagged), so a new patch contributes at once.
+#pragma once
+
+#include <cstdint>
+
+#include "fluidtex/options.h"
+
+namespace fluidtex {
+
+enum class DiskState : std::uint8_t {
+  FadingIn = 0,
+  Active = 1,
+  FadingOutDistorted = 2,
+  FadingOutClose = 3,
+};
+
+const char* to_string(DiskState s);
+inline bool is_fading_out(DiskState s) {
+  return s == DiskState::FadingOutDistorted || s == DiskState::FadingOutClose;
+}
+
+struct FadeResult {
+  DiskState state;
+  double kt;
+  bool remove;  ///< K_t reached 0 (or below) while fading out
+};
+
+/// One frame of fading for a disk in `state` with weight `kt` and density
+/// `rho` (other disks in the same plane within radius d, any state).
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading);
+
+}  // namespace fluidtex

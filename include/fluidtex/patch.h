@@ -1,0 +1,53 @@
+/// @file patch.h
+/// @brief A deformable patch (Gagnon et al. 2019, Sec. 5): a copy of the
+/// surface triangles around a Poisson disk, flattened once (LSCM) so that each
+/// vertex keeps its texture coordinate while its 3D position is advected.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fluidtex/distortion.h"
+#include "fluidtex/fading.h"
+#include "fluidtex/mesh.h"
+#include "fluidtex/poisson.h"
+#include "fluidtex/surface.h"
+
+namespace fluidtex {
+
+struct Patch {
+  std::uint32_t id = 0;            ///< unique, increasing with creation
+  DiskState state = DiskState::FadingIn;
+  double kt = 0.0;                 ///< temporal weight K_t ∈ [0, 1]
+  int created_frame = 0;
+  int flagged_frame = -1;          ///< frame it started fading out (t_k), −1 if not
+  int density = 0;                 ///< ρ at the last update
+
+  SurfaceSample center;            ///< the Poisson disk: centre on the current surface, normal
+  Vec2 anchor = Vec2::Zero();      ///< exemplar position of the centre, in tiles ([0,1)²)
+
+  // The patch mesh. uv is metric (scene units, centre at the origin, uv area
+  // equals the 3D area at creation); synthesis maps it to the exemplar.
+  std::vector<Vec3> positions;           ///< current 3D positions (on the surface)
+  std::vector<SurfacePoint> projections; ///< where each vertex lies on the current surface
+  std::vector<Vec2> uvs;
+  std::vector<Tri> triangles;
+  std::vector<RestTriangle> rest;        ///< per triangle: shape at creation (distortion metric)
+  std::vector<std::uint8_t> border;      ///< d_V = 0 when 1 (vertex on the patch boundary)
+  std::vector<float> quality;            ///< Q_V per vertex
+  std::vector<float> weight;             ///< w_V = K_S·K_t per vertex (Eq. 2)
+
+  double max_distortion = 1.0;           ///< max D_T over the triangles at the last update
+
+  std::size_t num_vertices() const { return positions.size(); }
+  bool empty() const { return triangles.empty(); }
+};
+
+/// Recomputes `border`: vertices on an edge used by exactly one triangle.
+void update_border(Patch& patch);
+
+/// Removes the vertices where `keep` is 0 with every triangle using them, then
+/// any vertex no triangle uses, keeping the order of the rest.
+void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep);
+
+}  // namespace fluidtex

@@ -1,0 +1,38 @@
+/// @file patch_builder.h
+/// @brief Deformable patch creation (Gagnon et al. 2019, Sec. 5.1): copy the
+/// surface triangles around a Poisson disk and flatten them with Least Squares
+/// Conformal Maps (Lévy et al. 2002, CGAL's LSCM_parameterizer_3).
+///
+/// Selection grows a region from the disk's triangle in order of distance to
+/// the centre, taking a triangle only when its three corners are within
+/// (1 + β)·d of the centre and its normal passes the plane test N_T·N > pva.
+/// Departure from the paper, which only says "the polygons surrounding the
+/// disk": the growth also keeps the region a topological disk at every step
+/// (a triangle joins only along one boundary edge with a new corner, or along
+/// two consecutive boundary edges), so LSCM always applies, holes and handles
+/// in the selection are never created, and non-manifold edges are not crossed.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "fluidtex/options.h"
+#include "fluidtex/patch.h"
+
+namespace fluidtex {
+
+/// Triangles (face indices) of the disk-like selection around `center`, in
+/// the order they were added (the centre's triangle first).
+std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center,
+                                    double select_radius, double patch_vertex_angle);
+
+/// Builds the patch of a new disk; `options` must be resolved (radius > 0).
+/// Returns nullopt (with the reason in `failure`) when no usable patch can be
+/// made, e.g. when the LSCM solve fails. K_t, state and weights are left for
+/// the caller.
+std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
+                                 const TrackingOptions& options, std::uint32_t id, std::uint64_t seed,
+                                 int frame, std::string* failure = nullptr);
+
+}  // namespace fluidtex

@@ -1,0 +1,34 @@
+#include "fluidtex/fading.h"
+
+namespace fluidtex {
+
+const char* to_string(DiskState s) {
+  switch (s) {
+    case DiskState::FadingIn: return "fading_in";
+    case DiskState::Active: return "active";
+    case DiskState::FadingOutDistorted: return "fading_out_distorted";
+    case DiskState::FadingOutClose: return "fading_out_close";
+  }
+  return "?";
+}
+
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading) {
+  const double rate = (fading == Fading::Density ? static_cast<double>(rho) + 1.0 : 1.0) /
+                      static_cast<double>(fade_frames);
+  switch (state) {
+    case DiskState::FadingIn:
+      kt += rate;  // Eq. 6, first line
+      if (kt >= 1.0) return {DiskState::Active, 1.0, false};
+      return {DiskState::FadingIn, kt, false};
+    case DiskState::Active:
+      return {DiskState::Active, 1.0, false};
+    case DiskState::FadingOutDistorted:
+    case DiskState::FadingOutClose:
+      kt -= rate;  // Eq. 6, last line; K_t <= 0 removes the patch at once
+      if (kt <= 0.0) return {state, 0.0, true};
+      return {state, kt, false};
+  }
+  return {state, kt, false};
+}
+
+}  // namespace fluidtex

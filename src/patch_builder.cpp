@@ -1,0 +1,214 @@
+#include "fluidtex/patch_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+#include <unordered_set>
+
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/parameterize.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+
+#include "fluidtex/random.h"
+
+namespace fluidtex {
+
+namespace {
+
+std::uint64_t edge_key(int a, int b) {
+  const auto lo = static_cast<std::uint32_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint32_t>(std::max(a, b));
+  return (static_cast<std::uint64_t>(lo) << 32) | hi;
+}
+
+}  // namespace
+
+std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center,
+                                    double select_radius, double patch_vertex_angle) {
+  const FrameMesh& mesh = surface.mesh();
+  const Vec3 c = center.point.position;
+  const Vec3 n = center.normal;
+  const double r2 = select_radius * select_radius;
+
+  std::unordered_map<std::uint64_t, int> edge_faces;   // region faces per edge (1 = boundary)
+  std::unordered_map<std::uint64_t, int> edge_from;    // for boundary edges: the directed start vertex
+  std::unordered_set<int> region_vertices;
+  std::unordered_set<int> in_region;
+  std::unordered_set<int> rejected;                    // permanently ineligible
+  std::vector<int> order;
+
+  auto eligible = [&](int f) {
+    const Tri& t = mesh.triangles[f];
+    for (int v : t) {
+      if ((mesh.positions[v] - c).squaredNorm() > r2) return false;
+    }
+    return surface.face_normals()[f].dot(n) > patch_vertex_angle;
+  };
+  auto add = [&](int f) {
+    const Tri& t = mesh.triangles[f];
+    in_region.insert(f);
+    order.push_back(f);
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const std::uint64_t key = edge_key(a, b);
+      if (++edge_faces[key] == 1) edge_from[key] = a;
+      region_vertices.insert(a);
+    }
+  };
+
+  using Item = std::pair<double, int>;  // (distance of the centroid, face): ties broken by index
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  auto push_neighbors = [&](int f) {
+    for (int g : surface.face_neighbors()[f]) {
+      if (g < 0 || in_region.count(g) || rejected.count(g)) continue;
+      const Tri& t = mesh.triangles[g];
+      const Vec3 centroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+      queue.emplace((centroid - c).squaredNorm(), g);
+    }
+  };
+
+  add(center.point.face);  // the disk's own triangle always belongs to its patch
+  push_neighbors(center.point.face);
+  while (!queue.empty()) {
+    const int f = queue.top().second;
+    queue.pop();
+    if (in_region.count(f) || rejected.count(f)) continue;
+    if (!eligible(f)) {
+      rejected.insert(f);
+      continue;
+    }
+    const Tri& t = mesh.triangles[f];
+    int boundary = 0, corners = 0;
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const auto it = edge_faces.find(edge_key(a, b));
+      if (it == edge_faces.end()) continue;
+      if (it->second >= 2) ok = false;                     // edge already interior: non-manifold
+      else if (edge_from[edge_key(a, b)] == a) ok = false; // same direction: inconsistent orientation
+      else ++boundary;
+    }
+    if (!ok) {
+      rejected.insert(f);
+      continue;
+    }
+    for (int v : t) corners += region_vertices.count(v) ? 1 : 0;
+    // Disk-preserving growth; other cases (a hole or handle would appear) may
+    // become valid later, when a neighbour joins, and are pushed again then.
+    if ((boundary == 1 && corners == 2) || (boundary == 2 && corners == 3)) {
+      add(f);
+      push_neighbors(f);
+    }
+  }
+  return order;
+}
+
+std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
+                                 const TrackingOptions& options, std::uint32_t id, std::uint64_t seed,
+                                 int frame, std::string* failure) {
+  auto fail = [&](const char* why) -> std::optional<Patch> {
+    if (failure) *failure = why;
+    return std::nullopt;
+  };
+  const FrameMesh& mesh = surface.mesh();
+  const std::vector<int> faces = select_patch_faces(
+      surface, center, (1.0 + options.selection_margin) * options.radius, options.patch_vertex_angle);
+  if (faces.empty()) return fail("empty selection");
+
+  // Local copy: vertices in order of first use, each with a projection onto
+  // the surface (the corner it came from).
+  Patch patch;
+  patch.id = id;
+  patch.created_frame = frame;
+  patch.center = center;
+  std::unordered_map<int, int> local;
+  for (int f : faces) {
+    const Tri& t = mesh.triangles[f];
+    Tri lt;
+    for (int k = 0; k < 3; ++k) {
+      auto [it, inserted] = local.emplace(t[k], static_cast<int>(patch.positions.size()));
+      if (inserted) {
+        patch.positions.push_back(mesh.positions[t[k]]);
+        Vec3 bary = Vec3::Zero();
+        bary[k] = 1.0;
+        patch.projections.push_back(surface.at(f, bary));
+      }
+      lt[k] = it->second;
+    }
+    patch.triangles.push_back(lt);
+  }
+
+  // LSCM on a CGAL Surface_mesh copy of the selection (a topological disk).
+  using K = CGAL::Simple_cartesian<double>;
+  using SM = CGAL::Surface_mesh<K::Point_3>;
+  using VD = SM::Vertex_index;
+  SM sm;
+  std::vector<VD> vds;
+  vds.reserve(patch.positions.size());
+  for (const Vec3& p : patch.positions) vds.push_back(sm.add_vertex(K::Point_3(p.x(), p.y(), p.z())));
+  for (const Tri& t : patch.triangles) {
+    if (sm.add_face(vds[t[0]], vds[t[1]], vds[t[2]]) == SM::null_face()) return fail("selection is not manifold");
+  }
+  SM::Halfedge_index border = SM::null_halfedge();
+  for (SM::Halfedge_index h : sm.halfedges()) {
+    if (sm.is_border(h)) {
+      border = h;
+      break;
+    }
+  }
+  if (border == SM::null_halfedge()) return fail("selection has no boundary");
+  auto uvmap = sm.add_property_map<VD, K::Point_2>("v:uv").first;
+  namespace SMP = CGAL::Surface_mesh_parameterization;
+  if (SMP::parameterize(sm, SMP::LSCM_parameterizer_3<SM>(), border, uvmap) != SMP::OK) {
+    return fail("LSCM solve failed");
+  }
+  patch.uvs.resize(patch.positions.size());
+  for (std::size_t v = 0; v < vds.size(); ++v) {
+    const K::Point_2& uv = uvmap[vds[v]];
+    patch.uvs[v] = Vec2(uv.x(), uv.y());
+  }
+
+  // Metric scale (uv area = 3D area), orientation, and centring on the disk.
+  double area3 = 0.0, area_uv = 0.0;
+  for (const Tri& t : patch.triangles) {
+    area3 += 0.5 * (patch.positions[t[1]] - patch.positions[t[0]]).cross(patch.positions[t[2]] - patch.positions[t[0]]).norm();
+    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
+    area_uv += 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+  }
+  if (!(std::abs(area_uv) > 0.0) || !(area3 > 0.0) || !std::isfinite(area_uv)) return fail("degenerate parameterisation");
+  const double scale = std::sqrt(area3 / std::abs(area_uv));
+  const double mirror = area_uv < 0.0 ? -1.0 : 1.0;
+  const Tri& ct = patch.triangles.front();  // the centre's triangle
+  const Vec3& b = center.point.bary;
+  const Vec2 uv_center = b[0] * patch.uvs[ct[0]] + b[1] * patch.uvs[ct[1]] + b[2] * patch.uvs[ct[2]];
+  for (Vec2& uv : patch.uvs) uv = Vec2(mirror * (uv.x() - uv_center.x()), uv.y() - uv_center.y()) * scale;
+
+  // Drop triangles LSCM folded over (rare, on very curved selections).
+  std::vector<Tri> kept;
+  for (const Tri& t : patch.triangles) {
+    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
+    if (e1.x() * e2.y() - e1.y() * e2.x() > 0.0) kept.push_back(t);
+  }
+  if (kept.empty()) return fail("parameterisation folded over");
+  const bool folded = kept.size() != patch.triangles.size();
+  patch.triangles = std::move(kept);
+
+  patch.rest.reserve(patch.triangles.size());
+  for (const Tri& t : patch.triangles) {
+    patch.rest.push_back(rest_shape(patch.positions[t[0]], patch.positions[t[1]], patch.positions[t[2]]));
+  }
+  patch.quality.assign(patch.positions.size(), 1.0f);
+  patch.weight.assign(patch.positions.size(), 0.0f);
+  if (folded) {
+    remove_vertices(patch, std::vector<std::uint8_t>(patch.positions.size(), 1));  // drops unused vertices
+  } else {
+    update_border(patch);
+  }
+  patch.anchor = Vec2(uniform(seed, Stream::PatchAnchor, id, 0), uniform(seed, Stream::PatchAnchor, id, 1));
+  return patch;
+}
+
+}  // namespace fluidtex
