@@ -5,10 +5,19 @@
 /// Input (exemplars): any format and bit depth OpenImageIO reads. 8- and
 /// 16-bit integer files without colour-space metadata, and files tagged sRGB,
 /// are treated as sRGB-encoded and converted to linear; float files (EXR, HDR,
-/// float TIFF) are taken as linear.
-/// Output (atlases): the format comes from the extension. `.exr`: half (default)
-/// or float; `.png`: 8-bit (or 16-bit) sRGB-encoded; `.tif`/`.tiff`: 16-bit
-/// sRGB-encoded or float when requested.
+/// float TIFF) are taken as linear (unless tagged sRGB); a file tagged
+/// "GammaCorrected" with oiio:Gamma is decoded with that power. The exact sRGB
+/// EOTF is applied here (no OCIO), so results never depend on the environment.
+/// Output (atlases): the format comes from the extension (case-insensitive).
+/// `.exr`: half (default) or float, linear, zip compression; `.png`: 8-bit
+/// (or 16-bit) sRGB-encoded; `.tif`/`.tiff`: 16-bit (or 8-bit) sRGB-encoded,
+/// or float (linear) when requested, zip compression. Integer encoding picks
+/// the nearest code value in sRGB space (values clamped to [0,1], NaN -> 0),
+/// so decoding and re-encoding an integer image is lossless.
+/// Alpha (channel named A/alpha) is never colour-converted nor
+/// (un)premultiplied: stored values pass through as given.
+/// Outputs are byte-identical for identical images: no timestamps are written
+/// (DateTime suppressed), Software is the constant "fluidtex".
 #pragma once
 
 #include <string>
@@ -27,21 +36,26 @@ struct Image {
   bool empty() const { return pixels.empty(); }
 };
 
-/// Reads an image; throws InputError("<path>", "...") when the file is missing,
-/// unreadable or not an image.
+/// Reads subimage 0 of an image; throws InputError(path, "cannot read image:
+/// <reason>") (one line) when the file is missing, unreadable, truncated or
+/// not an image.
 Image read_image(const std::string& path);
 
 enum class PixelDepth { Default, Half, Float, UInt8, UInt16 };
 
 struct ImageWriteOptions {
-  /// Default: half for EXR, uint8 for PNG, uint16 for TIFF.
+  /// Default: half for EXR, uint8 for PNG, uint16 for TIFF. A depth the format
+  /// cannot hold (float PNG, integer EXR, half TIFF) is an InputError.
   PixelDepth depth = PixelDepth::Default;
-  /// Channel names written to the file (EXR keeps them); empty: R,G,B,A / Y.
+  /// Channel names written to the file (EXR keeps them); empty: Y (1), Y,A (2),
+  /// R,G,B (3), R,G,B,A (4+, then channelN).
   std::vector<std::string> channel_names;
 };
 
 /// Writes `image` to `path` atomically (temporary sibling + rename). Throws
-/// InputError for an unsupported extension, InternalError when writing fails.
+/// InputError for an unsupported extension or depth (before anything is
+/// created), InternalError when the buffer does not match its size or writing
+/// fails.
 void write_image(const std::string& path, const Image& image,
                  const ImageWriteOptions& options = {});
 

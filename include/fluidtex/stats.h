@@ -30,15 +30,24 @@ struct FrameStats {
   std::vector<std::pair<std::string, double>> extra;
 };
 
-/// One JSON object on one line (no trailing newline). Non-finite numbers are
-/// written as null.
+/// One JSON object on one line (no trailing newline), keys in order: frame,
+/// vertices, faces, patches{...}, seconds{... insertion order},
+/// uncovered_fraction, then the extra keys. Numbers are locale-independent,
+/// shortest round-trip (std::to_chars); non-finite numbers are written as
+/// null; keys are JSON-escaped.
 std::string to_json_line(const FrameStats& stats);
 
 /// Accumulates lines and keeps `path` up to date.
 class StatsWriter {
  public:
+  /// Without `append_existing` the file is (atomically) emptied at once, so a
+  /// new run never leaves an earlier run's lines behind. With it (--resume),
+  /// the existing file's lines are loaded and kept (a missing file is fine;
+  /// an unreadable one is an InputError).
   explicit StatsWriter(std::string path, bool append_existing = false);
-  void add(const FrameStats& stats);  ///< appends and rewrites the file atomically
+  /// Appends the frame's line (replacing an earlier line of the same frame,
+  /// e.g. a frame redone after a resume) and rewrites the file atomically.
+  void add(const FrameStats& stats);
   const std::string& path() const { return path_; }
 
  private:

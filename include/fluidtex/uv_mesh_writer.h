@@ -1,6 +1,14 @@
 /// @file uv_mesh_writer.h
 /// @brief The per-frame UV mesh: the frame's surface with atlas coordinates.
 /// Seams carry per-corner UVs: a vertex on a chart border has one uv per chart.
+///
+/// Both writers pass the frame through unchanged (non-manifold and
+/// unreferenced vertices included), write numbers as 32-bit floats in the
+/// shortest text that round-trips (locale-independent), give byte-identical
+/// files for identical meshes, and write atomically. Index arrays out of
+/// range, mismatched array sizes or non-finite values are an InternalError
+/// (nothing is written). `normals` may be empty (no `vn` / zero normals) and
+/// `uv_triangles` may be empty (no `vt` / zero uvs).
 #pragma once
 
 #include <string>
@@ -18,13 +26,19 @@ struct UVMesh {
   std::vector<Tri> uv_triangles; ///< per corner, into uvs; same count as triangles
 };
 
-/// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`), atomically. With
-/// `mtl_image` non-empty, also writes a sibling `.mtl` naming it as map_Kd.
+/// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`, 1-based), atomically.
+/// With `mtl_image` non-empty, first writes a sibling `<stem>.mtl` (material
+/// "fluidtex_atlas") naming it as map_Kd, and adds `mtllib`/`usemtl` lines.
+/// A relative `mtl_image` is written as given (it should be relative to the
+/// OBJ's folder, usually the atlas's file name); an absolute one is made
+/// relative to the OBJ's folder.
 void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh,
                        const std::string& mtl_image = {});
 
-/// Writes a binary little-endian PLY with per-vertex `x y z nx ny nz u v`
-/// after splitting every vertex that has more than one uv, atomically.
+/// Writes a binary little-endian PLY with per-vertex `float x y z nx ny nz u v`
+/// and `list uchar int vertex_indices`, atomically. Vertices are split: one
+/// output vertex per distinct (vertex, uv index) pair used by a corner, in
+/// order of (vertex, uv index); unreferenced vertices are kept with uv (0,0).
 void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh);
 
 /// Picks the writer from the extension (.obj or .ply); InputError otherwise.
