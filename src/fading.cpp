@@ -18,14 +18,15 @@ FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fadin
   switch (state) {
     case DiskState::FadingIn:
       kt += rate;  // Eq. 6, first line
-      if (kt >= 1.0) return {DiskState::Active, 1.0, false};
+      // Within rounding of 1 counts as 1: τ steps of 1/τ must reach it.
+      if (kt >= 1.0 - 1e-9) return {DiskState::Active, 1.0, false};
       return {DiskState::FadingIn, kt, false};
     case DiskState::Active:
       return {DiskState::Active, 1.0, false};
     case DiskState::FadingOutDistorted:
     case DiskState::FadingOutClose:
       kt -= rate;  // Eq. 6, last line; K_t <= 0 removes the patch at once
-      if (kt <= 0.0) return {state, 0.0, true};
+      if (kt <= 1e-9) return {state, 0.0, true};
       return {state, kt, false};
   }
   return {state, kt, false};

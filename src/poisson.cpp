@@ -46,8 +46,9 @@ SurfaceSample sample_at(const SurfaceIndex& surface, int face, const Vec3& bary)
 }  // namespace
 
 std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius,
-                                              std::uint64_t seed, int frame, double per_disk) {
-  const std::size_t nf = surface.mesh().triangles.size();
+                                              std::uint64_t seed, double per_disk) {
+  const FrameMesh& mesh = surface.mesh();
+  const std::size_t nf = mesh.triangles.size();
   const double density = per_disk / (M_PI * radius * radius);  // candidates per unit area
   struct Keyed {
     std::uint64_t key;
@@ -56,31 +57,40 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
   std::vector<Keyed> keyed;
   keyed.reserve(static_cast<std::size_t>(density * std::accumulate(surface.face_areas().begin(),
                                                                    surface.face_areas().end(), 0.0)) +
-                nf / 4 + 16);
+                mesh.positions.size() + 16);
+  auto key = [&](std::uint64_t a, std::uint64_t b) {
+    return hash_values({seed, static_cast<std::uint64_t>(Stream::CandidateOrder), a, b});
+  };
   // Components expecting fewer than a handful of random points also get
   // every face centroid as a candidate.
   std::vector<char> sparse(surface.num_components(), 0);
   for (int c = 0; c < surface.num_components(); ++c) sparse[c] = surface.component_area()[c] * density < 8.0;
 
-  const auto fseed = static_cast<std::uint64_t>(static_cast<std::int64_t>(frame));
+  // The seeds depend on the face index, not on the frame, so that an
+  // unchanged surface yields the same candidates (and no new disks).
+  std::vector<char> vertex_done(mesh.positions.size(), 0);
   for (std::size_t f = 0; f < nf; ++f) {
     const double expected = surface.face_areas()[f] * density;
     const double whole = std::floor(expected);
-    const int count = static_cast<int>(whole) +
-                      (uniform(seed, Stream::Candidates, fseed, f, ~0ULL) < expected - whole ? 1 : 0);
+    const int count = static_cast<int>(whole) + (uniform(seed, Stream::Candidates, f, ~0ULL) < expected - whole ? 1 : 0);
     for (int k = 0; k < count; ++k) {
       // Uniform point in the triangle (square-root parameterisation).
-      const double u = uniform(seed, Stream::Candidates, fseed, f, 2 * k);
-      const double v = uniform(seed, Stream::Candidates, fseed, f, 2 * k + 1);
+      const double u = uniform(seed, Stream::Candidates, f, 2 * k);
+      const double v = uniform(seed, Stream::Candidates, f, 2 * k + 1);
       const double su = std::sqrt(u);
-      const Vec3 bary(1.0 - su, su * (1.0 - v), su * v);
-      keyed.push_back({hash_values({seed, static_cast<std::uint64_t>(Stream::CandidateOrder), fseed, f,
-                                    static_cast<std::uint64_t>(k)}),
-                       sample_at(surface, static_cast<int>(f), bary)});
+      keyed.push_back({key(f, k), sample_at(surface, static_cast<int>(f), Vec3(1.0 - su, su * (1.0 - v), su * v))});
     }
     if (sparse[surface.face_component()[f]]) {
-      keyed.push_back({hash_values({seed, static_cast<std::uint64_t>(Stream::CandidateOrder), fseed, f, ~0ULL}),
-                       sample_at(surface, static_cast<int>(f), Vec3::Constant(1.0 / 3.0))});
+      keyed.push_back({key(f, ~0ULL), sample_at(surface, static_cast<int>(f), Vec3::Constant(1.0 / 3.0))});
+    }
+    // Every vertex too: they reach the corners and rims random points miss.
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.triangles[f][c];
+      if (vertex_done[v]) continue;
+      vertex_done[v] = 1;
+      Vec3 bary = Vec3::Zero();
+      bary[c] = 1.0;
+      keyed.push_back({key(~static_cast<std::uint64_t>(v), 0), sample_at(surface, static_cast<int>(f), bary)});
     }
   }
   std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {

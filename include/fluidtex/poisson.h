@@ -49,10 +49,12 @@ struct SurfaceSample {
 };
 
 /// Candidate points, in visiting order: about `per_disk` random points per
-/// disk area π r² spread by triangle area, plus every triangle's centroid on
-/// components too small to receive random points (thin splashes, droplets).
+/// disk area π r² spread by triangle area, every mesh vertex (they reach
+/// rims and corners), and every triangle's centroid on components too small
+/// to receive random points (thin splashes, droplets). The random streams are
+/// keyed by face index, so an unchanged surface gives the same candidates.
 std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius,
-                                              std::uint64_t seed, int frame, double per_disk = 32.0);
+                                              std::uint64_t seed, double per_disk = 32.0);
 
 /// Dart throwing: keeps every candidate that no existing disk nor earlier kept
 /// candidate rejects. Then any connected component with area above

@@ -1,0 +1,46 @@
+/// @file advection.h
+/// @brief Patch advection and projection (Gagnon et al. 2019, Sec. 5.2),
+/// distortion estimation (Sec. 5.3) and vertex weights (Sec. 6.1–6.2).
+///
+/// Every vertex (and the disk centre) moves by the surface velocity at its
+/// projection on the previous frame times dt, then snaps to the closest point
+/// of the new frame's surface; a vertex farther than mpt from it is removed
+/// with its triangles, and a centre farther than mpt kills its patch.
+#pragma once
+
+#include "fluidtex/options.h"
+#include "fluidtex/patch.h"
+
+namespace fluidtex {
+
+enum class Advection {
+  Euler,  ///< x + v_t(x)·dt: the convention of simulators that store the
+          ///< velocity carrying frame t to t+1 (the default)
+  Heun,   ///< second order: x + ½(v_t(x) + v_{t+1}(x̃))·dt, x̃ the Euler guess
+};
+
+const char* to_string(Advection a);
+Advection advection_from_string(const std::string& s);
+
+/// Advects `patch` from `previous` to `next`. Returns false when the patch
+/// is lost (its centre left the surface, or no triangle is left).
+bool advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                  double max_projection, Advection scheme);
+
+/// Advects one surface point; returns its projection on `next` (distance set).
+SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,
+                          double dt, Advection scheme);
+
+/// Distortion of a patch on its current surface: per-triangle D_T (Sorkine),
+/// per-vertex Q_V (mean Q_T of the incident triangles) stored in
+/// `patch.quality`, `patch.max_distortion` set. Returns true when the patch is
+/// too distorted: a vertex with Q_V < Q_vmin, a triangle flipped against the
+/// surface normal, or a triangle whose corners lie on different connected
+/// components of the surface (stretched across a split).
+bool update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options);
+
+/// w_V = K_S(V)·K_t with Eq. 4, K_S = max(0, 1 − |V_uv − p_uv|/d_uv)·s·d_V·Q_V,
+/// d_uv = d (uv is metric). Fills `patch.weight`.
+void update_weights(Patch& patch, const TrackingOptions& options);
+
+}  // namespace fluidtex

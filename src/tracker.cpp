@@ -1,0 +1,177 @@
+#include "fluidtex/tracker.h"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fluidtex/patch_builder.h"
+#include "fluidtex/poisson.h"
+
+namespace fluidtex {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+template <class F>
+void parallel_each(std::size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
+
+PoissonParams poisson_params(const TrackingOptions& o) {
+  return {o.radius, o.thickness, o.plane_angle, o.criterion};
+}
+
+}  // namespace
+
+PatchCounts count_states(const std::vector<Patch>& patches) {
+  PatchCounts c;
+  for (const Patch& p : patches) {
+    switch (p.state) {
+      case DiskState::FadingIn: ++c.fading_in; break;
+      case DiskState::Active: ++c.active; break;
+      case DiskState::FadingOutDistorted: ++c.fading_out_distorted; break;
+      case DiskState::FadingOutClose: ++c.fading_out_close; break;
+    }
+  }
+  return c;
+}
+
+Tracker::Tracker(TrackerSettings settings) : settings_(std::move(settings)) { settings_.method.validate(); }
+Tracker::~Tracker() = default;
+Tracker::Tracker(Tracker&&) noexcept = default;
+Tracker& Tracker::operator=(Tracker&&) noexcept = default;
+
+StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt) {
+  StepReport report;
+  report.frame = frame;
+  auto t0 = Clock::now();
+  auto surface = std::make_unique<SurfaceIndex>(*mesh);
+  if (!started_) settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
+  const TrackingOptions& o = settings_.method;
+  const PoissonParams params = poisson_params(o);
+  report.seconds.emplace_back("surface", seconds_since(t0));
+
+  if (started_) {
+    // 1. Advection and projection.
+    t0 = Clock::now();
+    std::vector<char> alive(patches_.size(), 1);
+    parallel_each(patches_.size(), [&](std::size_t i) {
+      alive[i] = advect_patch(patches_[i], *surface_, *surface, dt, o.max_projection, settings_.advection);
+    });
+    report.seconds.emplace_back("advect", seconds_since(t0));
+
+    // 2. Distortion.
+    t0 = Clock::now();
+    std::vector<char> distorted(patches_.size(), 0);
+    parallel_each(patches_.size(), [&](std::size_t i) {
+      if (alive[i]) distorted[i] = update_distortion(patches_[i], *surface, o);
+    });
+    std::vector<Patch> kept;
+    kept.reserve(patches_.size());
+    for (std::size_t i = 0; i < patches_.size(); ++i) {
+      if (!alive[i]) {
+        ++report.lost;
+        continue;
+      }
+      if (distorted[i] && !is_fading_out(patches_[i].state)) {
+        patches_[i].state = DiskState::FadingOutDistorted;
+        patches_[i].flagged_frame = frame;
+      }
+      kept.push_back(std::move(patches_[i]));
+    }
+    patches_ = std::move(kept);
+    report.seconds.emplace_back("distortion", seconds_since(t0));
+  }
+
+  // 3. Poisson update, ignoring fading-out disks; patches are in id order, so
+  // of two disks too close the younger one fades out.
+  t0 = Clock::now();
+  std::vector<std::size_t> live;
+  std::vector<SurfaceSample> disks;
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    if (is_fading_out(patches_[i].state)) continue;
+    live.push_back(i);
+    disks.push_back(patches_[i].center);
+  }
+  const std::vector<bool> close = flag_too_close(disks, params, o.kill_alpha);
+  std::vector<SurfaceSample> remaining;
+  for (std::size_t k = 0; k < live.size(); ++k) {
+    if (close[k]) {
+      patches_[live[k]].state = DiskState::FadingOutClose;
+      patches_[live[k]].flagged_frame = frame;
+    } else {
+      remaining.push_back(disks[k]);
+    }
+  }
+  const std::vector<SurfaceSample> candidates =
+      surface_candidates(*surface, o.radius, settings_.seed, settings_.candidates_per_disk);
+  const std::vector<SurfaceSample> fresh =
+      fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius);
+  report.seconds.emplace_back("poisson", seconds_since(t0));
+
+  // Patches for the new disks, in parallel; ids are fixed before the loop.
+  t0 = Clock::now();
+  std::vector<std::optional<Patch>> built(fresh.size());
+  parallel_each(fresh.size(), [&](std::size_t i) {
+    built[i] = build_patch(*surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame);
+    if (built[i]) update_distortion(*built[i], *surface, o);
+  });
+  next_id_ += static_cast<std::uint32_t>(fresh.size());
+  for (std::optional<Patch>& p : built) {
+    if (!p) {
+      ++report.failed;
+      continue;
+    }
+    p->state = started_ ? DiskState::FadingIn : DiskState::Active;
+    p->kt = started_ ? 0.0 : 1.0;
+    patches_.push_back(std::move(*p));
+    ++report.created;
+  }
+  report.seconds.emplace_back("patches", seconds_since(t0));
+
+  // 4. Density and temporal weights.
+  t0 = Clock::now();
+  std::vector<SurfaceSample> all;
+  all.reserve(patches_.size());
+  for (const Patch& p : patches_) all.push_back(p.center);
+  const std::vector<int> rho = disk_density(all, params);
+  std::vector<Patch> survivors;
+  survivors.reserve(patches_.size());
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    Patch& p = patches_[i];
+    p.density = rho[i];
+    const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading);
+    if (r.remove) {
+      ++report.removed;
+      continue;
+    }
+    p.state = r.state;
+    p.kt = r.kt;
+    survivors.push_back(std::move(p));
+  }
+  patches_ = std::move(survivors);
+  report.removed += report.lost;
+  report.seconds.emplace_back("fading", seconds_since(t0));
+
+  // 5. Vertex weights.
+  t0 = Clock::now();
+  parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], o); });
+  report.seconds.emplace_back("weights", seconds_since(t0));
+
+  mesh_ = std::move(mesh);
+  surface_ = std::move(surface);
+  frame_ = frame;
+  started_ = true;
+  report.counts = count_states(patches_);
+  for (const Patch& p : patches_) report.patch_vertices += p.num_vertices();
+  return report;
+}
+
+}  // namespace fluidtex
