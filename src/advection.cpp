@@ -29,27 +29,42 @@ SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous
   return to;
 }
 
-bool advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
-                  double max_projection, Advection scheme) {
+namespace {
+
+/// A point whose closest surface point is on the rim of an open surface and
+/// that lies beyond it in the tangent plane has left the fluid region (an
+/// outflow boundary of the 2D scenes): remove it rather than squash it onto
+/// the rim, which would only distort the patch. `p.distance` is the offset.
+bool left_through_rim(const SurfacePoint& p, const SurfaceIndex& surface, double max_projection) {
+  return p.distance > 0.1 * max_projection && surface.on_boundary(p);
+}
+
+}  // namespace
+
+AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                          double max_projection, double radius, Advection scheme) {
   const SurfacePoint centre = advect_point(patch.center.point, previous, next, dt, scheme);
-  if (!centre.valid() || centre.distance > max_projection) return false;
+  if (!centre.valid() || centre.distance > max_projection) return AdvectResult::Lost;
   patch.center.point = centre;
   patch.center.normal = next.normal_at(centre);
 
   std::vector<std::uint8_t> keep(patch.positions.size(), 1);
-  bool removed = false;
+  bool removed = false, damaged = false;
   for (std::size_t v = 0; v < patch.positions.size(); ++v) {
     const SurfacePoint p = advect_point(patch.projections[v], previous, next, dt, scheme);
-    if (!p.valid() || p.distance > max_projection) {
+    if (!p.valid() || p.distance > max_projection || left_through_rim(p, next, max_projection)) {
       keep[v] = 0;
       removed = true;
+      damaged = damaged || patch.uvs[v].norm() < radius;
       continue;
     }
     patch.projections[v] = p;
     patch.positions[v] = p.position;
   }
-  if (removed) remove_vertices(patch, keep);
-  return !patch.triangles.empty();
+  if (removed) remove_vertices(patch, keep, next);
+  else update_border(patch, next);
+  if (patch.triangles.empty()) return AdvectResult::Lost;
+  return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
 }
 
 bool update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options) {

@@ -4,7 +4,7 @@
 
 namespace fluidtex {
 
-void update_border(Patch& patch) {
+void update_border(Patch& patch, const SurfaceIndex& surface) {
   struct Edge {
     int a, b;
   };
@@ -21,12 +21,14 @@ void update_border(Patch& patch) {
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
-    if (j - i == 1) patch.border[edges[i].a] = patch.border[edges[i].b] = 1;
+    const int a = edges[i].a, b = edges[i].b;
+    const bool rim = surface.on_boundary(patch.projections[a]) && surface.on_boundary(patch.projections[b]);
+    if (j - i == 1 && !rim) patch.border[a] = patch.border[b] = 1;
     i = j;
   }
 }
 
-void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep) {
+void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface) {
   const std::size_t nv = patch.positions.size();
   std::vector<std::uint8_t> used(nv, 0);
   std::vector<Tri> triangles;
@@ -61,7 +63,7 @@ void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep) {
   }
   patch.triangles = std::move(triangles);
   patch.rest = std::move(rest);
-  update_border(patch);
+  update_border(patch, surface);
 }
 
 }  // namespace fluidtex

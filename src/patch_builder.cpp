@@ -203,9 +203,9 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
   patch.quality.assign(patch.positions.size(), 1.0f);
   patch.weight.assign(patch.positions.size(), 0.0f);
   if (folded) {
-    remove_vertices(patch, std::vector<std::uint8_t>(patch.positions.size(), 1));  // drops unused vertices
+    remove_vertices(patch, std::vector<std::uint8_t>(patch.positions.size(), 1), surface);  // drops unused vertices
   } else {
-    update_border(patch);
+    update_border(patch, surface);
   }
   patch.anchor = Vec2(uniform(seed, Stream::PatchAnchor, id, 0), uniform(seed, Stream::PatchAnchor, id, 1));
   return patch;

@@ -2,12 +2,16 @@
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
+#include "fluidtex/debug_views.h"
 #include "fluidtex/error.h"
 #include "fluidtex/frame_pattern.h"
 #include "fluidtex/image_io.h"
+#include "fluidtex/patch_locator.h"
 #include "fluidtex/sequence.h"
 #include "fluidtex/stats.h"
+#include "fluidtex/tracker.h"
 
 namespace fluidtex {
 
@@ -53,38 +57,102 @@ void JobOptions::validate() const {
   if (threads < 0) throw InputError("", "--threads must be >= 0 (0 = all cores)");
 }
 
+std::string state_path(const std::string& dir, int frame) {
+  return FramePattern(dir + "/state/patches.####.bin").path(frame);
+}
+
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
+  auto seconds_since = [](Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  };
   options.validate();
   const Sequence sequence(options.input);
   if (!options.exemplar.empty()) (void)read_image(options.exemplar);  // fail early when unreadable
 
-  // The tracking and synthesis stages are built on top of this loop; until
-  // they land, a run validates and measures every frame of the input.
-  reporter.warn("patch tracking and texture synthesis are not in this build yet: "
-                "this run validates the input and writes stats.jsonl only");
-  StatsWriter stats(options.output.dir + "/stats.jsonl");
-  for (std::size_t i = 0; i < sequence.size(); ++i) {
-    reporter.progress(i, sequence.size(), "read");
-    const auto t0 = Clock::now();
-    CleanReport cleaned;
-    const FrameMesh mesh = sequence.load(i, &cleaned);
-    if (cleaned.changed()) {
-      reporter.verbose(sequence.path_of(sequence.frames()[i]) + ": " + cleaned.summary());
+  TrackerSettings settings;
+  settings.method = options.tracking;
+  settings.advection = options.advection;
+  settings.seed = options.seed;
+  std::optional<Tracker> tracker;
+  std::size_t first = 0;
+  JobSummary summary;
+
+  if (options.output.resume) {
+    // The newest state whose frame is in the sequence: every output of that
+    // frame was written before it (the state is written last).
+    for (std::size_t i = sequence.size(); i-- > 0;) {
+      const std::string path = state_path(options.output.dir, sequence.frames()[i]);
+      if (!std::filesystem::exists(path)) continue;
+      auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
+      tracker.emplace(Tracker::load(path, std::move(mesh)));
+      first = i + 1;
+      summary.resumed_after = sequence.frames()[i];
+      reporter.info("resuming after frame " + std::to_string(summary.resumed_after) + " (" + path + ")");
+      break;
     }
-    FrameStats frame;
-    frame.frame = sequence.frames()[i];
-    frame.vertices = mesh.num_vertices();
-    frame.faces = mesh.num_faces();
-    frame.seconds.emplace_back("read", std::chrono::duration<double>(Clock::now() - t0).count());
-    frame.uncovered_fraction = 1.0;  // no patch covers anything yet
-    stats.add(frame);
+    if (!tracker) reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
+  }
+  if (!tracker) tracker.emplace(settings);
+
+  StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
+  int previous_frame = summary.resumed_after;
+  std::size_t failed = 0;
+  for (std::size_t i = first; i < sequence.size(); ++i) {
+    const int frame = sequence.frames()[i];
+    FrameStats frame_stats;
+    frame_stats.frame = frame;
+
+    reporter.progress(i, sequence.size(), "read");
+    auto t0 = Clock::now();
+    CleanReport cleaned;
+    auto mesh = std::make_shared<const FrameMesh>(sequence.load(i, &cleaned));
+    if (cleaned.changed()) reporter.verbose(sequence.path_of(frame) + ": " + cleaned.summary());
+    frame_stats.vertices = mesh->num_vertices();
+    frame_stats.faces = mesh->num_faces();
+    frame_stats.seconds.emplace_back("read", seconds_since(t0));
+
+    reporter.progress(i, sequence.size(), "track");
+    const double dt = previous_frame == -1 ? 1.0 / options.input.fps
+                                           : static_cast<double>(frame - previous_frame) / options.input.fps;
+    const StepReport step = tracker->step(mesh, frame, dt);
+    previous_frame = frame;
+    for (const auto& [stage, secs] : step.seconds) frame_stats.seconds.emplace_back(stage, secs);
+    frame_stats.patches = step.counts;
+    frame_stats.extra.emplace_back("patches_created", step.created);
+    frame_stats.extra.emplace_back("patches_removed", step.removed);
+    frame_stats.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
+    failed += static_cast<std::size_t>(step.failed);
+    if (i == 0 || (options.output.resume && i == first)) {
+      const TrackingOptions& o = tracker->settings().method;
+      reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " + std::to_string(o.thickness) +
+                       ", max projection mpt " + std::to_string(o.max_projection));
+    }
+
+    t0 = Clock::now();
+    if (options.output.debug_views) {
+      const std::string dir = options.output.dir + "/debug";
+      write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
+      write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
+    }
+    // Coverage on the surface (area with Σw = 0); the atlas's texel count
+    // replaces it once synthesis runs.
+    t0 = Clock::now();
+    const PatchLocator locator(tracker->patches(), tracker->settings().method.max_projection);
+    frame_stats.uncovered_fraction = uncovered_area_fraction(*tracker->surface(), locator);
+    frame_stats.seconds.emplace_back("coverage", seconds_since(t0));
+    t0 = Clock::now();
+    if (options.output.write_state) tracker->save(state_path(options.output.dir, frame));
+    frame_stats.seconds.emplace_back("write", seconds_since(t0));
+    stats.add(frame_stats);
+    ++summary.frames;
+  }
+  if (failed > 0) {
+    reporter.warn(std::to_string(failed) + " new disks got no patch (degenerate selection or failed LSCM solve)");
   }
   reporter.progress(sequence.size(), sequence.size(), "done");
-  JobSummary summary;
-  summary.frames = sequence.size();
-  summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  summary.seconds = seconds_since(start);
   return summary;
 }
 

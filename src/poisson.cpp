@@ -106,31 +106,40 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<SurfaceSample>& candidates,
                                      const SurfaceIndex& surface, const PoissonParams& params,
-                                     double min_component_area) {
-  std::vector<SurfaceSample> disks = existing;
-  PointIndex index;
-  for (const SurfaceSample& d : disks) index.add(d.point.position);
+                                     double min_component_area, const std::vector<char>* uncovered) {
+  const PointIndex old_index(
+      [&] {
+        std::vector<Vec3> centres;
+        for (const SurfaceSample& d : existing) centres.push_back(d.point.position);
+        return centres;
+      }());
+  PointIndex new_index;
   const double reach = search_radius(params.radius, params);
   std::vector<SurfaceSample> kept;
   auto accept = [&](const SurfaceSample& c) {
     kept.push_back(c);
-    disks.push_back(c);
-    index.add(c.point.position);
+    new_index.add(c.point.position);
   };
-  for (const SurfaceSample& c : candidates) {
-    bool free = true;
+  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c) {
     for (int i : index.within(c.point.position, reach)) {
       if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, params.radius, params)) {
-        free = false;
-        break;
+        return true;
       }
     }
-    if (free) accept(c);
+    return false;
+  };
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const SurfaceSample& c = candidates[k];
+    if (rejected_by(new_index, kept, c)) continue;
+    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c)) continue;
+    accept(c);
   }
   // Safety net for tiny components the criterion could not reach.
   std::vector<char> has_disk(surface.num_components(), 0);
-  for (const SurfaceSample& d : disks) {
-    if (d.point.valid()) has_disk[surface.face_component()[d.point.face]] = 1;
+  for (const std::vector<SurfaceSample>* list : {&existing, const_cast<const std::vector<SurfaceSample>*>(&kept)}) {
+    for (const SurfaceSample& d : *list) {
+      if (d.point.valid()) has_disk[surface.face_component()[d.point.face]] = 1;
+    }
   }
   for (const SurfaceSample& c : candidates) {
     const int comp = surface.face_component()[c.point.face];

@@ -79,12 +79,15 @@ SurfaceIndex::SurfaceIndex(const FrameMesh& mesh) : mesh_(&mesh), tree_(std::mak
     return std::tie(x.a, x.b, x.face, x.corner) < std::tie(y.a, y.b, y.face, y.corner);
   });
   neighbors_.assign(nf, {-1, -1, -1});
+  vertex_boundary_.assign(mesh.positions.size(), 0);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
     if (j - i == 2) {
       neighbors_[edges[i].face][edges[i].corner] = edges[i + 1].face;
       neighbors_[edges[i + 1].face][edges[i + 1].corner] = edges[i].face;
+    } else if (j - i == 1) {
+      vertex_boundary_[edges[i].a] = vertex_boundary_[edges[i].b] = 1;
     }
     i = j;
   }
@@ -118,6 +121,18 @@ SurfacePoint SurfaceIndex::closest_point(const Vec3& p) const {
   s.bary = barycentric(s.position, mesh_->positions[t[0]], mesh_->positions[t[1]], mesh_->positions[t[2]]);
   s.distance = (s.position - p).norm();
   return s;
+}
+
+bool SurfaceIndex::on_boundary(const SurfacePoint& s) const {
+  constexpr double eps = 1e-9;
+  const Tri& t = mesh_->triangles[s.face];
+  for (int k = 0; k < 3; ++k) {
+    // Edge k joins corners k and k+1; the point is on it when the opposite
+    // corner's coordinate vanishes.
+    if (neighbors_[s.face][k] < 0 && s.bary[(k + 2) % 3] < eps) return true;
+    if (s.bary[k] > 1.0 - eps && vertex_boundary_[t[k]]) return true;
+  }
+  return false;
 }
 
 Vec3 SurfaceIndex::normal_at(const SurfacePoint& s) const {

@@ -7,6 +7,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/patch_builder.h"
+#include "fluidtex/patch_locator.h"
 #include "fluidtex/poisson.h"
 
 namespace fluidtex {
@@ -61,9 +62,12 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   if (started_) {
     // 1. Advection and projection.
     t0 = Clock::now();
-    std::vector<char> alive(patches_.size(), 1);
+    std::vector<char> alive(patches_.size(), 1), damaged(patches_.size(), 0);
     parallel_each(patches_.size(), [&](std::size_t i) {
-      alive[i] = advect_patch(patches_[i], *surface_, *surface, dt, o.max_projection, settings_.advection);
+      const AdvectResult r =
+          advect_patch(patches_[i], *surface_, *surface, dt, o.max_projection, o.radius, settings_.advection);
+      alive[i] = r != AdvectResult::Lost;
+      damaged[i] = r == AdvectResult::Damaged;
     });
     report.seconds.emplace_back("advect", seconds_since(t0));
 
@@ -71,7 +75,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     t0 = Clock::now();
     std::vector<char> distorted(patches_.size(), 0);
     parallel_each(patches_.size(), [&](std::size_t i) {
-      if (alive[i]) distorted[i] = update_distortion(patches_[i], *surface, o);
+      if (alive[i]) distorted[i] = update_distortion(patches_[i], *surface, o) || damaged[i];
     });
     std::vector<Patch> kept;
     kept.reserve(patches_.size());
@@ -112,8 +116,21 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   }
   const std::vector<SurfaceSample> candidates =
       surface_candidates(*surface, o.radius, settings_.seed, settings_.candidates_per_disk);
+  // Which candidates the live patches really cover (K_S > 0): their
+  // weights are refreshed for the advected shape first.
+  std::vector<char> uncovered;
+  if (started_ && settings_.coverage_aware) {
+    std::vector<char> live_mask(patches_.size(), 0);
+    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !close[k];
+    parallel_each(patches_.size(), [&](std::size_t i) {
+      if (live_mask[i]) update_weights(patches_[i], o);
+    });
+    const PatchLocator locator(patches_, o.max_projection, &live_mask);
+    uncovered = uncovered_samples(candidates, locator);
+  }
   const std::vector<SurfaceSample> fresh =
-      fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius);
+      fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,
+                uncovered.empty() ? nullptr : &uncovered);
   report.seconds.emplace_back("poisson", seconds_since(t0));
 
   // Patches for the new disks, in parallel; ids are fixed before the loop.

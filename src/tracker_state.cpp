@@ -83,6 +83,7 @@ void put_settings(Writer& w, const TrackerSettings& s) {
   w.put(static_cast<std::uint8_t>(o.criterion)), w.put(static_cast<std::uint8_t>(o.fading));
   w.put(static_cast<std::uint8_t>(s.advection)), w.put(s.seed), w.put(s.candidates_per_disk);
   w.put(s.min_component_area);
+  w.put(static_cast<std::uint8_t>(s.coverage_aware));
 }
 
 void get_settings(Reader& r, TrackerSettings& s) {
@@ -94,6 +95,9 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(o.thickness), r.get(o.kill_alpha), r.get(o.min_vertex_quality), r.get(o.selection_margin);
   r.get(criterion), r.get(fading), r.get(advection), r.get(s.seed), r.get(s.candidates_per_disk);
   r.get(s.min_component_area);
+  std::uint8_t coverage_aware;
+  r.get(coverage_aware);
+  s.coverage_aware = coverage_aware != 0;
   o.fade_frames = fade;
   o.criterion = static_cast<Criterion>(criterion);
   o.fading = static_cast<Fading>(fading);

@@ -22,10 +22,18 @@ enum class Advection {
 const char* to_string(Advection a);
 Advection advection_from_string(const std::string& s);
 
-/// Advects `patch` from `previous` to `next`. Returns false when the patch
-/// is lost (its centre left the surface, or no triangle is left).
-bool advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
-                  double max_projection, Advection scheme);
+enum class AdvectResult {
+  Kept,     ///< every vertex followed the surface, or only vertices outside the disk were lost
+  Damaged,  ///< a vertex inside the disk (|uv| < d, where K_S > 0) was removed
+  Lost,     ///< the centre left the surface (beyond mpt), or no triangle is left
+};
+
+/// Advects `patch` from `previous` to `next`. A Damaged patch no longer
+/// covers its disk: the tracker fades it out as distorted so that the Poisson
+/// update replaces it (the paper: vertex removal "allows for the introduction
+/// of new patches").
+AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                          double max_projection, double radius, Advection scheme);
 
 /// Advects one surface point; returns its projection on `next` (distance set).
 SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,

@@ -43,11 +43,16 @@ struct Patch {
   bool empty() const { return triangles.empty(); }
 };
 
-/// Recomputes `border`: vertices on an edge used by exactly one triangle.
-void update_border(Patch& patch);
+/// Recomputes `border` (d_V = 0): vertices on an edge used by exactly one
+/// patch triangle, except edges lying along an open boundary of `surface`
+/// itself (both ends projected on the rim). Departure from the paper: d_V
+/// exists to fade a patch out where another takes over; along the rim of an
+/// open surface (the 2D scenes) nothing takes over, and zeroing the weight
+/// there would leave the rim triangles uncovered.
+void update_border(Patch& patch, const SurfaceIndex& surface);
 
 /// Removes the vertices where `keep` is 0 with every triangle using them, then
 /// any vertex no triangle uses, keeping the order of the rest.
-void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep);
+void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface);
 
 }  // namespace fluidtex

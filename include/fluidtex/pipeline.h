@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "fluidtex/advection.h"
 #include "fluidtex/options.h"
 #include "fluidtex/report.h"
 
@@ -16,6 +17,7 @@ struct OutputOptions {
   std::string mesh_pattern;           ///< --mesh; empty = DIR/mesh.####.obj
   bool resume = false;                ///< --resume: continue after the last complete frame
   bool debug_views = false;           ///< --debug-views: patch/disk PLYs per frame
+  bool write_state = true;            ///< OUT/state/patches.####.bin after every frame
 
   /// The effective patterns (defaults filled in); InputError when a given
   /// pattern has no frame token or an unsupported extension.
@@ -26,6 +28,7 @@ struct OutputOptions {
 struct JobOptions {
   InputOptions input;
   TrackingOptions tracking;
+  Advection advection = Advection::Euler;  ///< --advection
   OutputOptions output;
   std::string exemplar;   ///< -e: exemplar image
   int threads = 0;        ///< 0 = all cores
@@ -35,9 +38,13 @@ struct JobOptions {
 };
 
 struct JobSummary {
-  std::size_t frames = 0;
+  std::size_t frames = 0;        ///< frames processed by this run
+  int resumed_after = -1;        ///< frame whose state the run resumed from, −1 if none
   double seconds = 0.0;
 };
+
+/// The state file of `frame` under `dir` (DIR/state/patches.####.bin).
+std::string state_path(const std::string& dir, int frame);
 
 /// Runs the job. Throws InputError for bad input (before any output is
 /// written when the problem can be seen up front), InternalError otherwise.

@@ -61,10 +61,18 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 /// `min_component_area` that still holds no disk (existing disks count by the
 /// component of their face) gets its first candidate, so that small droplets
 /// are never left bare. Returns the kept candidates in acceptance order.
+///
+/// `uncovered` (optional, one entry per candidate) marks candidates that no
+/// existing patch actually covers with positive weight: such a candidate is
+/// also kept when only existing disks reject it (new disks still do).
+/// Departure from the paper, whose gap test looks at disk centres only: an
+/// advected patch can lose vertices (mpt), shrink or be compressed, and then
+/// no longer cover the disk its centre stands for; this keeps the surface
+/// covered (Σw > 0 everywhere), which the blending needs.
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<SurfaceSample>& candidates,
                                      const SurfaceIndex& surface, const PoissonParams& params,
-                                     double min_component_area);
+                                     double min_component_area, const std::vector<char>* uncovered = nullptr);
 
 /// Kill-distance flags (Sec. 5.4): visiting `disks` in order (callers pass
 /// them oldest first), a disk is flagged when an earlier, unflagged disk

@@ -55,6 +55,12 @@ class SurfaceIndex {
   /// -1 on a boundary edge or a non-manifold edge (more than two faces).
   const std::vector<std::array<int, 3>>& face_neighbors() const { return neighbors_; }
   const std::vector<int>& face_component() const { return component_; }
+  /// Vertices on an open boundary edge (an edge with a single triangle).
+  const std::vector<char>& vertex_on_boundary() const { return vertex_boundary_; }
+  /// True when `s` lies on an open boundary of the surface (on a boundary edge
+  /// or at a boundary vertex), as a closest-point query beyond the rim of an
+  /// open surface does.
+  bool on_boundary(const SurfacePoint& s) const;
   int num_components() const { return num_components_; }
   const std::vector<double>& component_area() const { return component_area_; }
 
@@ -67,6 +73,7 @@ class SurfaceIndex {
   std::vector<Vec3> vertex_normals_;
   std::vector<std::array<int, 3>> neighbors_;
   std::vector<int> component_;
+  std::vector<char> vertex_boundary_;
   std::vector<double> component_area_;
   int num_components_ = 0;
 };

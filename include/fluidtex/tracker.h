@@ -35,6 +35,9 @@ struct TrackerSettings {
   double candidates_per_disk = 32.0;      ///< dart-throwing candidates per disk area π d²
   /// Components smaller than this × π d² may stay without a disk.
   double min_component_area = 0.02;
+  /// Insert disks where no live patch covers the surface even if a disk
+  /// centre is near (see fill_gaps); off gives the paper's centre-only test.
+  bool coverage_aware = true;
 };
 
 struct StepReport {

@@ -1,0 +1,52 @@
+/// @file patch_locator.h
+/// @brief Which patches cover a point of the surface, and with which uv and
+/// weight: the exact, per-point projection through the patch triangles that
+/// Gagnon et al. 2019 (Sec. 7.1) use per texel, on a CGAL AABB tree over
+/// every patch triangle. Used for the coverage measure and as the reference
+/// ("exact") texel synthesis.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fluidtex/patch.h"
+
+namespace fluidtex {
+
+struct PatchHit {
+  int patch = -1;        ///< index into the patch list given to the locator
+  Vec2 uv = Vec2::Zero();
+  double weight = 0.0;   ///< barycentric blend of the vertex weights w_V
+};
+
+class PatchLocator {
+ public:
+  /// `tolerance`: how far (scene units) a patch triangle may lie from the
+  /// query point and still cover it (patch triangles are flat chords of a
+  /// curved surface, so a little slack is needed; a fraction of mpt).
+  /// With `include`, only the patches whose entry is non-zero are located.
+  PatchLocator(const std::vector<Patch>& patches, double tolerance,
+               const std::vector<char>* include = nullptr);
+  ~PatchLocator();
+
+  /// The covering patches of the surface point `p` with unit normal `n`, at
+  /// most one hit per patch (its nearest triangle), in patch order. A
+  /// triangle facing away from `n` (the other side of a thin sheet) does
+  /// not cover. Thread safe.
+  void locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const;
+
+ private:
+  struct Tree;
+  const std::vector<Patch>* patches_;
+  double tolerance_;
+  std::unique_ptr<Tree> tree_;
+};
+
+/// Fraction of the surface area with Σw = 0: each triangle counts with its
+/// area when its centroid has no covering patch of positive weight.
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchLocator& locator);
+
+/// Per sample: 1 when no located patch covers it with positive weight.
+std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchLocator& locator);
+
+}  // namespace fluidtex

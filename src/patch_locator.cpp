@@ -1,0 +1,140 @@
+#include "fluidtex/patch_locator.h"
+
+#include <algorithm>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/blocked_range.h>
+
+namespace fluidtex {
+
+namespace {
+using K = CGAL::Simple_cartesian<double>;
+using Triangles = std::vector<K::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
+using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+K::Point_3 to_cgal(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+}  // namespace
+
+struct PatchLocator::Tree {
+  Triangles triangles;
+  std::vector<std::pair<int, int>> owner;  // (patch, triangle) per entry
+  AabbTree tree;
+};
+
+PatchLocator::PatchLocator(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include)
+    : patches_(&patches), tolerance_(tolerance), tree_(std::make_unique<Tree>()) {
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    if (include && !(*include)[p]) continue;
+    const Patch& patch = patches[p];
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      const Tri& tri = patch.triangles[t];
+      tree_->triangles.emplace_back(to_cgal(patch.positions[tri[0]]), to_cgal(patch.positions[tri[1]]),
+                                    to_cgal(patch.positions[tri[2]]));
+      tree_->owner.emplace_back(static_cast<int>(p), static_cast<int>(t));
+    }
+  }
+  if (!tree_->triangles.empty()) {
+    tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
+    tree_->tree.build();
+  }
+}
+
+PatchLocator::~PatchLocator() = default;
+
+void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const {
+  hits.clear();
+  if (tree_->triangles.empty()) return;
+  const double h = tolerance_;
+  const K::Iso_cuboid_3 box(p.x() - h, p.y() - h, p.z() - h, p.x() + h, p.y() + h, p.z() + h);
+  std::vector<Primitive::Id> found;
+  tree_->tree.all_intersected_primitives(box, std::back_inserter(found));
+  struct Best {
+    int patch, tri;
+    double dist2;
+    Vec3 bary;
+  };
+  std::vector<Best> best;
+  for (const auto& it : found) {
+    const std::size_t e = static_cast<std::size_t>(it - tree_->triangles.cbegin());
+    const auto [pi, ti] = tree_->owner[e];
+    const Patch& patch = (*patches_)[pi];
+    const Tri& tri = patch.triangles[ti];
+    const Vec3& a = patch.positions[tri[0]];
+    const Vec3& b = patch.positions[tri[1]];
+    const Vec3& c = patch.positions[tri[2]];
+    const Vec3 tn = (b - a).cross(c - a);
+    if (tn.dot(n) <= 0.0) continue;  // other side of a sheet, or a fold
+    const K::Point_3 q = tree_->triangles[e].supporting_plane().projection(to_cgal(p));
+    // Inside test on the projected point (barycentric, unclamped).
+    const Vec3 qp(q.x(), q.y(), q.z());
+    const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
+    const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+    const double den = d00 * d11 - d01 * d01;
+    if (!(den > 0.0)) continue;
+    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den, u = 1.0 - v - w;
+    const double eps = -1e-9;
+    if (u < eps || v < eps || w < eps) continue;
+    const double dist2 = (qp - p).squaredNorm();
+    if (dist2 > h * h) continue;
+    auto slot = std::find_if(best.begin(), best.end(), [&](const Best& x) { return x.patch == pi; });
+    if (slot == best.end()) best.push_back({pi, ti, dist2, Vec3(u, v, w)});
+    else if (dist2 < slot->dist2 || (dist2 == slot->dist2 && ti < slot->tri)) *slot = {pi, ti, dist2, Vec3(u, v, w)};
+  }
+  std::sort(best.begin(), best.end(), [](const Best& x, const Best& y) { return x.patch < y.patch; });
+  for (const Best& b : best) {
+    const Patch& patch = (*patches_)[b.patch];
+    const Tri& tri = patch.triangles[b.tri];
+    PatchHit hit;
+    hit.patch = b.patch;
+    hit.uv = b.bary[0] * patch.uvs[tri[0]] + b.bary[1] * patch.uvs[tri[1]] + b.bary[2] * patch.uvs[tri[2]];
+    hit.weight = b.bary[0] * patch.weight[tri[0]] + b.bary[1] * patch.weight[tri[1]] + b.bary[2] * patch.weight[tri[2]];
+    hits.push_back(hit);
+  }
+}
+
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchLocator& locator) {
+  const FrameMesh& mesh = surface.mesh();
+  const std::size_t nf = mesh.triangles.size();
+  std::vector<char> covered(nf, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<PatchHit> hits;
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const SurfacePoint s = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
+      locator.locate(s.position, surface.normal_at(s), hits);
+      for (const PatchHit& h : hits) covered[f] |= h.weight > 0.0;
+    }
+  });
+  double total = 0.0, bare = 0.0;  // summed in face order: deterministic
+  for (std::size_t f = 0; f < nf; ++f) {
+    total += surface.face_areas()[f];
+    if (!covered[f]) bare += surface.face_areas()[f];
+  }
+  return total > 0.0 ? bare / total : 0.0;
+}
+
+}  // namespace fluidtex
+
+namespace fluidtex {
+
+std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchLocator& locator) {
+  std::vector<char> bare(samples.size(), 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<PatchHit> hits;
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      locator.locate(samples[i].point.position, samples[i].normal, hits);
+      for (const PatchHit& h : hits) {
+        if (h.weight > 0.0) {
+          bare[i] = 0;
+          break;
+        }
+      }
+    }
+  });
+  return bare;
+}
+
+}  // namespace fluidtex
