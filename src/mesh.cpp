@@ -2,6 +2,8 @@
 
 #include <numeric>
 
+#include <Eigen/Geometry>
+
 namespace fluidtex {
 
 BBox bounding_box(const FrameMesh& mesh) {
