@@ -254,12 +254,13 @@ std::vector<Tri> triangles_from(const std::string& path, const FrameImporter& im
 // --- Formats ------------------------------------------------------------------------------
 
 std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path, "cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path, "read error");
-  return std::move(ss).str();
+  std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+    throw InputError(path, "read error");
+  return bytes;
 }
 
 FrameMesh read_ply(const std::string& path, const std::string& bytes, const ReadOptions& options,
@@ -269,7 +270,9 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
                                          options.require_velocities);
 
   FrameImporter im;
-  std::istringstream in(canonical_ply_header(header, layout) + bytes.substr(header.body_offset));
+  std::string canonical = canonical_ply_header(header, layout);
+  canonical.append(bytes, header.body_offset);
+  std::istringstream in(std::move(canonical));
   const bool ok = run_openmesh_reader([&] {
     OM::IO::Options opt = OM::IO::Options::Custom;
     return OM::IO::PLYReader().read(in, im, opt);
@@ -279,9 +282,10 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
   // A short ASCII body leaves the stream failed (binary sizes were checked up
   // front, so failure there also means a short body).
   if (!ok || in.fail() || im.n_vertices() != nv || im.face_start_.size() != nf + 1) {
-    throw InputError(path, "truncated or malformed body: read " + std::to_string(im.n_vertices()) + " of " +
-                               std::to_string(nv) + " vertices and " + std::to_string(im.face_start_.size() - 1) +
-                               " of " + std::to_string(nf) + " faces");
+    const std::string what = header.format == PlyFormat::Ascii ? "truncated or unparsable ASCII body"
+                                                               : "truncated or malformed binary body";
+    throw InputError(path, what + " (the header promises " + std::to_string(nv) + " vertices and " +
+                               std::to_string(nf) + " faces)");
   }
 
   FrameMesh mesh;

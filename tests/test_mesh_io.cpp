@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <iostream>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -154,6 +156,20 @@ TEST(MeshIo, RoundTripsEveryFormatTypeAndVelocityNaming) {
   }
 }
 
+TEST(MeshIo, AsciiWithoutFinalNewlineAndWithCrlfHeader) {
+  TempDir dir;
+  const Sample s;
+  std::string ply = make_ply({}, s.pos, s.vel, s.faces);
+  ply.pop_back();  // no newline after the last face
+  const std::size_t body = ply.find("end_header\n") + 11;
+  std::string header = ply.substr(0, body), crlf;
+  for (char c : header) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  write_file(dir.file("a.ply"), crlf + ply.substr(body));
+  const FrameMesh m = read_frame(dir.file("a.ply"));
+  EXPECT_EQ(m.num_faces(), 6u);
+  EXPECT_EQ(m.velocities[6], s.vel[6].cast<float>().cast<double>());
+}
+
 TEST(MeshIo, ConcaveQuadIsNotInverted) {
   TempDir dir;
   // A dart: vertex 1 is reflex, so a fan from vertex 0 would flip a triangle.
@@ -253,6 +269,7 @@ TEST(MeshIo, BadInputGivesOneLineErrors) {
     const std::string err = read_error(path, opt);
     EXPECT_NE(err.find(word), std::string::npos) << err;
     EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+    if (std::getenv("FLUIDTEX_SHOW_ERRORS")) std::cout << err << "\n";
   };
   PlySpec bin;
   bin.format = "binary_little_endian";
