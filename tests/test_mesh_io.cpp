@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <thread>
 
 #include "fluidtex/error.h"
 #include "fluidtex/mesh_io.h"
@@ -254,6 +256,29 @@ TEST(MeshIo, ObjOnlyWithoutRequiredVelocities) {
   const std::string err = read_error(path);
   EXPECT_NE(err.find("OBJ cannot carry velocities"), std::string::npos) << err;
   EXPECT_NE(err.find("--velocity-from-positions"), std::string::npos) << err;
+}
+
+TEST(MeshIo, ConcurrentReadsAgree) {
+  TempDir dir;
+  const Sample s;
+  PlySpec spec;
+  spec.format = "binary_big_endian";
+  spec.vel_type = "double";
+  write_file(dir.file("a.ply"), make_ply(spec, s.pos, s.vel, s.faces));
+  write_file(dir.file("b.ply"), make_ply({}, s.pos, s.vel, s.faces));
+  std::vector<std::thread> threads;
+  std::atomic<int> good{0};
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 25; ++i) {
+        const FrameMesh m = read_frame(dir.file((t + i) % 2 ? "a.ply" : "b.ply"));
+        if (m.num_faces() == 6 && m.velocities[1].x() == as_type(s.vel[1].x(), (t + i) % 2 ? "double" : "float"))
+          ++good;
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  EXPECT_EQ(good.load(), 100);
 }
 
 // --- Bad input -------------------------------------------------------------------------
