@@ -71,36 +71,46 @@ bool update_distortion(Patch& patch, const SurfaceIndex& surface, const Tracking
   const std::size_t nv = patch.positions.size();
   std::vector<double> sum(nv, 0.0);
   std::vector<int> count(nv, 0);
+  std::vector<double> weight(nv, 0.0);
   bool distorted = false;
   patch.max_distortion = 1.0;
   const auto& component = surface.face_component();
+  // Only where the patch contributes (|uv| < d, K_S > 0) can its distortion
+  // show; the margin out to (1 + β)d only keeps the border away from it.
+  auto inside = [&](int v) { return patch.uvs[v].norm() < options.radius; };
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& tri = patch.triangles[t];
+    const bool visible = inside(tri[0]) || inside(tri[1]) || inside(tri[2]);
     const Vec3& q0 = patch.positions[tri[0]];
     const Vec3& q1 = patch.positions[tri[1]];
     const Vec3& q2 = patch.positions[tri[2]];
     const double d = triangle_distortion(patch.rest[t], q0, q1, q2);
-    patch.max_distortion = std::max(patch.max_distortion, d);
+    if (visible) patch.max_distortion = std::max(patch.max_distortion, d);
     const double q = triangle_quality(d, options.max_distortion);
+    // Area-weighted mean (rest area): reconstructed surfaces are full of
+    // slivers whose shape is noise, and a plain mean lets one of them decide.
+    const RestTriangle& r = patch.rest[t];
+    const double area = 0.5 * std::abs((r[1] - r[0]).x() * (r[2] - r[0]).y() - (r[1] - r[0]).y() * (r[2] - r[0]).x());
     for (int v : tri) {
-      sum[v] += q;
+      sum[v] += q * area;
+      weight[v] += area;
       ++count[v];
     }
     // Flipped: the triangle's normal turned against the surface under it.
     const Vec3 n = (q1 - q0).cross(q2 - q0);
     Vec3 surface_n = Vec3::Zero();
     for (int v : tri) surface_n += surface.normal_at(patch.projections[v]);
-    if (n.dot(surface_n) < 0.0) distorted = true;
+    if (visible && n.dot(surface_n) < 0.0) distorted = true;
     // Stretched across two disconnected pieces of the surface.
     const int c0 = component[patch.projections[tri[0]].face];
-    if (component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0) {
+    if (visible && (component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0)) {
       distorted = true;
     }
   }
   patch.quality.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
-    patch.quality[v] = count[v] ? static_cast<float>(sum[v] / count[v]) : 0.0f;
-    if (count[v] && patch.quality[v] < options.min_vertex_quality) distorted = true;
+    patch.quality[v] = weight[v] > 0.0 ? static_cast<float>(sum[v] / weight[v]) : 0.0f;
+    if (count[v] && inside(static_cast<int>(v)) && patch.quality[v] < options.min_vertex_quality) distorted = true;
   }
   return distorted;
 }

@@ -137,7 +137,8 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   t0 = Clock::now();
   std::vector<std::optional<Patch>> built(fresh.size());
   parallel_each(fresh.size(), [&](std::size_t i) {
-    built[i] = build_patch(*surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame);
+    built[i] = build_patch(*surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame,
+                           settings_.patch_edge * o.radius);
     if (built[i]) update_distortion(*built[i], *surface, o);
   });
   next_id_ += static_cast<std::uint32_t>(fresh.size());

@@ -84,6 +84,7 @@ void put_settings(Writer& w, const TrackerSettings& s) {
   w.put(static_cast<std::uint8_t>(s.advection)), w.put(s.seed), w.put(s.candidates_per_disk);
   w.put(s.min_component_area);
   w.put(static_cast<std::uint8_t>(s.coverage_aware));
+  w.put(s.patch_edge);
 }
 
 void get_settings(Reader& r, TrackerSettings& s) {
@@ -98,6 +99,7 @@ void get_settings(Reader& r, TrackerSettings& s) {
   std::uint8_t coverage_aware;
   r.get(coverage_aware);
   s.coverage_aware = coverage_aware != 0;
+  r.get(s.patch_edge);
   o.fade_frames = fade;
   o.criterion = static_cast<Criterion>(criterion);
   o.fading = static_cast<Fading>(fading);

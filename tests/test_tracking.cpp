@@ -117,7 +117,7 @@ TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {
   o = o.resolved(1.0);
   o.radius = 0.15;
   std::string why;
-  const auto patch = build_patch(surface, sample_near(surface, Vec3(0.52, 0.47, 0)), o, 7, 1, 1, &why);
+  const auto patch = build_patch(surface, sample_near(surface, Vec3(0.52, 0.47, 0)), o, 7, 1, 1, 0.0, &why);
   ASSERT_TRUE(patch) << why;
   EXPECT_EQ(patch->id, 7u);
   double area3 = 0, area_uv = 0;
@@ -160,7 +160,7 @@ TEST(PatchBuilder, SelectionStaysADiskAroundAHole) {
   const SurfaceIndex surface(mesh);
   TrackingOptions o = TrackingOptions{}.resolved(1.0);
   o.radius = 0.2;
-  const auto patch = build_patch(surface, sample_near(surface, Vec3(0.5, 0.5, 0)), o, 0, 1, 1);
+  const auto patch = build_patch(surface, sample_near(surface, Vec3(0.5, 0.5, 0)), o, 0, 1, 1, 0.0);
   ASSERT_TRUE(patch);
   // Euler characteristic of a disk: V − E + F = 1.
   std::set<std::pair<int, int>> edges;

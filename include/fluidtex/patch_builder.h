@@ -28,11 +28,13 @@ std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSa
                                     double select_radius, double patch_vertex_angle);
 
 /// Builds the patch of a new disk; `options` must be resolved (radius > 0).
-/// Returns nullopt (with the reason in `failure`) when no usable patch can be
-/// made, e.g. when the LSCM solve fails. K_t, state and weights are left for
-/// the caller.
+/// The copied selection is remeshed (CGAL isotropic remeshing, vertices kept
+/// on the surface) to triangles of about `edge_length` (≤ 0: keep the
+/// surface's own triangles) before LSCM. Returns nullopt (with the reason in
+/// `failure`) when no usable patch can be made, e.g. when the LSCM solve
+/// fails. K_t, state and weights are left for the caller.
 std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
                                  const TrackingOptions& options, std::uint32_t id, std::uint64_t seed,
-                                 int frame, std::string* failure = nullptr);
+                                 int frame, double edge_length, std::string* failure = nullptr);
 
 }  // namespace fluidtex

@@ -28,7 +28,7 @@ struct OutputOptions {
 struct JobOptions {
   InputOptions input;
   TrackingOptions tracking;
-  Advection advection = Advection::Euler;  ///< --advection
+  Advection advection = Advection::Heun;  ///< --advection
   OutputOptions output;
   std::string exemplar;   ///< -e: exemplar image
   int threads = 0;        ///< 0 = all cores

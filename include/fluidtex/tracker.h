@@ -30,7 +30,7 @@ namespace fluidtex {
 
 struct TrackerSettings {
   TrackingOptions method;                 ///< Table 3/4 parameters (resolved on the first frame)
-  Advection advection = Advection::Euler;
+  Advection advection = Advection::Heun;
   std::uint64_t seed = 1;
   double candidates_per_disk = 32.0;      ///< dart-throwing candidates per disk area π d²
   /// Components smaller than this × π d² may stay without a disk.
@@ -38,6 +38,9 @@ struct TrackerSettings {
   /// Insert disks where no live patch covers the surface even if a disk
   /// centre is near (see fill_gaps); off gives the paper's centre-only test.
   bool coverage_aware = true;
+  /// Patch triangles are remeshed to edges of this × d (≤ 0 keeps the
+  /// surface's own triangles; see build_patch).
+  double patch_edge = 0.25;
 };
 
 struct StepReport {
