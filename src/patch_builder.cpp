@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 #include <unordered_map>
-#include <unordered_set>
 
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
@@ -13,19 +11,10 @@
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
+#include "fluidtex/disk_region.h"
 #include "fluidtex/random.h"
 
 namespace fluidtex {
-
-namespace {
-
-std::uint64_t edge_key(int a, int b) {
-  const auto lo = static_cast<std::uint32_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint32_t>(std::max(a, b));
-  return (static_cast<std::uint64_t>(lo) << 32) | hi;
-}
-
-}  // namespace
 
 std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center,
                                     double select_radius, double patch_vertex_angle) {
@@ -33,78 +22,19 @@ std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSa
   const Vec3 c = center.point.position;
   const Vec3 n = center.normal;
   const double r2 = select_radius * select_radius;
-
-  std::unordered_map<std::uint64_t, int> edge_faces;   // region faces per edge (1 = boundary)
-  std::unordered_map<std::uint64_t, int> edge_from;    // for boundary edges: the directed start vertex
-  std::unordered_set<int> region_vertices;
-  std::unordered_set<int> in_region;
-  std::unordered_set<int> rejected;                    // permanently ineligible
-  std::vector<int> order;
-
-  auto eligible = [&](int f) {
-    const Tri& t = mesh.triangles[f];
-    for (int v : t) {
+  DiskRegionOptions region;
+  region.accept = [&](int f) {
+    for (int v : mesh.triangles[f]) {
       if ((mesh.positions[v] - c).squaredNorm() > r2) return false;
     }
-    return surface.face_normals()[f].dot(n) > patch_vertex_angle;
+    return surface.face_normals()[f].dot(n) > patch_vertex_angle;  // the plane test with pva
   };
-  auto add = [&](int f) {
+  region.priority = [&](int f) {
     const Tri& t = mesh.triangles[f];
-    in_region.insert(f);
-    order.push_back(f);
-    for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      const std::uint64_t key = edge_key(a, b);
-      if (++edge_faces[key] == 1) edge_from[key] = a;
-      region_vertices.insert(a);
-    }
+    return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c).squaredNorm();
   };
-
-  using Item = std::pair<double, int>;  // (distance of the centroid, face): ties broken by index
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  auto push_neighbors = [&](int f) {
-    for (int g : surface.face_neighbors()[f]) {
-      if (g < 0 || in_region.count(g) || rejected.count(g)) continue;
-      const Tri& t = mesh.triangles[g];
-      const Vec3 centroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
-      queue.emplace((centroid - c).squaredNorm(), g);
-    }
-  };
-
-  add(center.point.face);  // the disk's own triangle always belongs to its patch
-  push_neighbors(center.point.face);
-  while (!queue.empty()) {
-    const int f = queue.top().second;
-    queue.pop();
-    if (in_region.count(f) || rejected.count(f)) continue;
-    if (!eligible(f)) {
-      rejected.insert(f);
-      continue;
-    }
-    const Tri& t = mesh.triangles[f];
-    int boundary = 0, corners = 0;
-    bool ok = true;
-    for (int k = 0; k < 3 && ok; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      const auto it = edge_faces.find(edge_key(a, b));
-      if (it == edge_faces.end()) continue;
-      if (it->second >= 2) ok = false;                     // edge already interior: non-manifold
-      else if (edge_from[edge_key(a, b)] == a) ok = false; // same direction: inconsistent orientation
-      else ++boundary;
-    }
-    if (!ok) {
-      rejected.insert(f);
-      continue;
-    }
-    for (int v : t) corners += region_vertices.count(v) ? 1 : 0;
-    // Disk-preserving growth; other cases (a hole or handle would appear) may
-    // become valid later, when a neighbour joins, and are pushed again then.
-    if ((boundary == 1 && corners == 2) || (boundary == 2 && corners == 3)) {
-      add(f);
-      push_neighbors(f);
-    }
-  }
-  return order;
+  // The disk's own triangle always belongs to its patch.
+  return grow_disk_region(surface, center.point.face, region);
 }
 
 namespace {

@@ -101,6 +101,7 @@ struct RunArgs {
   JobOptions job;
   std::string criterion = "ellipsoid";
   std::string fading = "density";
+  std::string advection = "heun";
   int verbosity = 0;
   bool quiet = false;
   bool print_config = false;
@@ -134,6 +135,11 @@ void add_run(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"density", "linear"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
+  run->add_option("--advection", args->advection,
+                  "Patch advection: heun (second order) or euler (x + v dt)")
+      ->check(CLI::IsMember({"heun", "euler"}))
+      ->capture_default_str()
+      ->group("Method (Tables 3, 4)");
   run->add_option("--threads", args->job.threads, "Worker threads (0 = all cores)")->capture_default_str();
   run->add_option("--seed", args->job.seed, "Random seed")->capture_default_str();
   run->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
@@ -148,6 +154,7 @@ void add_run(CLI::App& app, int& exit_code) {
     }
     args->job.tracking.criterion = criterion_from_string(args->criterion);
     args->job.tracking.fading = fading_from_string(args->fading);
+    args->job.advection = advection_from_string(args->advection);
     TerminalReporter reporter(args->verbosity, args->quiet);
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);

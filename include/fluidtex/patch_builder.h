@@ -7,10 +7,8 @@
 /// the centre, taking a triangle only when its three corners are within
 /// (1 + β)·d of the centre and its normal passes the plane test N_T·N > pva.
 /// Departure from the paper, which only says "the polygons surrounding the
-/// disk": the growth also keeps the region a topological disk at every step
-/// (a triangle joins only along one boundary edge with a new corner, or along
-/// two consecutive boundary edges), so LSCM always applies, holes and handles
-/// in the selection are never created, and non-manifold edges are not crossed.
+/// disk": the growth keeps the region a topological disk at every step
+/// (disk_region.h), so LSCM always applies.
 #pragma once
 
 #include <cstdint>
