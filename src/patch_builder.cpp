@@ -5,7 +5,6 @@
 #include <limits>
 #include <unordered_map>
 
-
 #include "fluidtex/disk_region.h"
 #include "fluidtex/parameterization.h"
 #include "fluidtex/random.h"

@@ -1,0 +1,59 @@
+/// @file atlas.h
+/// @brief The per-frame texture atlas of the whole surface (Gagnon et al.
+/// 2019, Sec. 6.4: "All the pixels are computed on a texture atlas"; the
+/// mapping uses Lévy et al. 2002). Since every frame is an independent mesh,
+/// every frame gets its own atlas.
+///
+/// Charts: region growing from the lowest unassigned face over faces whose
+/// normal stays within a cone of the seed's normal, kept a topological disk
+/// (disk_region.h) and bounded in size; each chart is flattened with LSCM
+/// (metric: uv area = 3D area), turned to its principal axes, scaled to one
+/// common texel density (world units per texel, so detail is even across the
+/// surface) and packed on shelves into a square of `size` texels with a
+/// gutter between charts. The density is the largest that fits.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "fluidtex/surface.h"
+#include "fluidtex/uv_mesh_writer.h"
+
+namespace fluidtex {
+
+struct AtlasOptions {
+  int size = 2048;              ///< atlas width = height, texels
+  int gutter = 4;               ///< empty texels around each chart (filled by dilation)
+  double normal_cone = 0.85;    ///< faces join a chart while N_f·N_seed > this
+  std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
+
+  void validate() const;  ///< InputError for a bad value
+};
+
+struct Chart {
+  std::vector<int> faces;          ///< surface faces, in growth order
+  Eigen::Vector2i origin{0, 0};    ///< lower-left texel of its rectangle (gutter included)
+  Eigen::Vector2i extent{0, 0};    ///< rectangle size in texels (gutter included)
+  double area3 = 0.0;              ///< 3D area
+  double stretch = 1.0;            ///< area-weighted mean of max(a_uv/a_3d, a_3d/a_uv) (1 = no area distortion)
+};
+
+struct Atlas {
+  int size = 0;
+  double texels_per_unit = 0.0;    ///< texel density (texels per scene unit)
+  std::vector<Chart> charts;
+  std::vector<int> face_chart;                 ///< chart of each surface face
+  std::vector<std::array<Vec2, 3>> corner_px;  ///< per face, corner positions in texel units (x right, y down)
+  double packing_efficiency = 0.0;             ///< chart area / atlas area
+  int failed_charts = 0;                       ///< charts LSCM could not flatten (split to single faces)
+};
+
+/// Builds the atlas of `surface`.
+Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options);
+
+/// The UV mesh of the frame: positions, vertex normals, triangles and per
+/// corner atlas uv in [0,1]² (v up), shared where corners share a vertex and
+/// a chart.
+UVMesh atlas_uv_mesh(const SurfaceIndex& surface, const Atlas& atlas);
+
+}  // namespace fluidtex
