@@ -179,54 +179,58 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
   atlas.face_chart.assign(nf, -1);
   atlas.corner_px.assign(nf, {});
 
-  // 1. Segment into disk-like charts bounded by a normal cone.
-  std::vector<std::vector<int>> chart_faces;
-  for (std::size_t seed = 0; seed < nf; ++seed) {
-    if (atlas.face_chart[seed] >= 0) continue;
-    const int id = static_cast<int>(chart_faces.size());
-    const Vec3 n0 = surface.face_normals()[seed];
-    const Tri& st = mesh.triangles[seed];
-    const Vec3 c0 = (mesh.positions[st[0]] + mesh.positions[st[1]] + mesh.positions[st[2]]) / 3.0;
-    DiskRegionOptions region;
-    region.accept = [&](int f) { return atlas.face_chart[f] < 0 && surface.face_normals()[f].dot(n0) > options.normal_cone; };
-    region.priority = [&](int f) {
-      const Tri& t = mesh.triangles[f];
-      return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c0).squaredNorm();
-    };
-    region.max_faces = options.max_chart_faces;
-    std::vector<int> faces = grow_disk_region(surface, static_cast<int>(seed), region);
-    for (int f : faces) atlas.face_chart[f] = id;
-    chart_faces.push_back(std::move(faces));
-  }
-
-  // 2. Flatten every chart (in parallel; each writes its own slot).
-  std::vector<FlatChart> flat(chart_faces.size());
-  std::vector<double> stretch(chart_faces.size(), 1.0);
-  std::vector<char> ok(chart_faces.size(), 1);
-  tbb::parallel_for(std::size_t(0), chart_faces.size(), [&](std::size_t c) {
-    if (chart_faces[c].size() == 1) {
-      flat[c] = flat_face(mesh, chart_faces[c][0]);
-    } else {
-      ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]);
-    }
-  });
-  // Charts LSCM could not flatten become single-face charts.
+  // 1–2. Segment into disk-like charts bounded by a normal cone, flatten
+  // each (in parallel, each into its own slot), and segment again, smaller,
+  // the faces of charts LSCM could not flatten or flattened with too much
+  // area distortion; single faces are always flat.
   std::vector<std::vector<int>> final_faces;
   std::vector<FlatChart> final_flat;
   std::vector<double> final_stretch;
-  for (std::size_t c = 0; c < chart_faces.size(); ++c) {
-    if (ok[c]) {
-      final_faces.push_back(std::move(chart_faces[c]));
-      final_flat.push_back(std::move(flat[c]));
-      final_stretch.push_back(stretch[c]);
-      continue;
+  std::vector<int> pending(nf);
+  std::iota(pending.begin(), pending.end(), 0);
+  std::size_t max_faces = options.max_chart_faces;
+  std::vector<char> assigned(nf, 0);
+  while (!pending.empty()) {
+    std::vector<std::vector<int>> chart_faces;
+    for (int seed : pending) {
+      if (assigned[seed]) continue;
+      const Vec3 n0 = surface.face_normals()[seed];
+      const Tri& st = mesh.triangles[seed];
+      const Vec3 c0 = (mesh.positions[st[0]] + mesh.positions[st[1]] + mesh.positions[st[2]]) / 3.0;
+      DiskRegionOptions region;
+      region.accept = [&](int f) { return !assigned[f] && surface.face_normals()[f].dot(n0) > options.normal_cone; };
+      region.priority = [&](int f) {
+        const Tri& t = mesh.triangles[f];
+        return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c0).squaredNorm();
+      };
+      region.max_faces = max_faces;
+      std::vector<int> faces = grow_disk_region(surface, seed, region);
+      for (int f : faces) assigned[f] = 1;
+      chart_faces.push_back(std::move(faces));
     }
-    ++atlas.failed_charts;
-    for (int f : chart_faces[c]) {
-      final_faces.push_back({f});
-      final_flat.push_back(flat_face(mesh, f));
-      final_stretch.push_back(1.0);
+    std::vector<FlatChart> flat(chart_faces.size());
+    std::vector<double> stretch(chart_faces.size(), 1.0);
+    std::vector<char> ok(chart_faces.size(), 1);
+    tbb::parallel_for(std::size_t(0), chart_faces.size(), [&](std::size_t c) {
+      if (chart_faces[c].size() == 1) flat[c] = flat_face(mesh, chart_faces[c][0]);
+      else ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch;
+    });
+    pending.clear();
+    for (std::size_t c = 0; c < chart_faces.size(); ++c) {
+      if (ok[c]) {
+        final_faces.push_back(std::move(chart_faces[c]));
+        final_flat.push_back(std::move(flat[c]));
+        final_stretch.push_back(stretch[c]);
+        continue;
+      }
+      ++atlas.failed_charts;
+      for (int f : chart_faces[c]) {
+        assigned[f] = 0;
+        pending.push_back(f);
+      }
     }
+    std::sort(pending.begin(), pending.end());
+    max_faces = std::max<std::size_t>(1, max_faces / 4);
   }
 
   // 3. Common density: the largest (bisection) whose shelf packing fits.

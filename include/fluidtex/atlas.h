@@ -26,6 +26,7 @@ struct AtlasOptions {
   int gutter = 4;               ///< empty texels around each chart (filled by dilation)
   double normal_cone = 0.85;    ///< faces join a chart while N_f·N_seed > this
   std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
+  double max_stretch = 1.5;     ///< charts with a larger mean area stretch are cut smaller
 
   void validate() const;  ///< InputError for a bad value
 };
@@ -45,7 +46,7 @@ struct Atlas {
   std::vector<int> face_chart;                 ///< chart of each surface face
   std::vector<std::array<Vec2, 3>> corner_px;  ///< per face, corner positions in texel units (x right, y down)
   double packing_efficiency = 0.0;             ///< chart area / atlas area
-  int failed_charts = 0;                       ///< charts LSCM could not flatten (split to single faces)
+  int failed_charts = 0;                       ///< charts cut again (LSCM failed or stretched too much)
 };
 
 /// Builds the atlas of `surface`.
