@@ -1,65 +1,51 @@
 #include "fluidtex/patch_locator.h"
 
+#include "fluidtex/point_index.h"
+
 #include <algorithm>
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Simple_cartesian.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/blocked_range.h>
 
 namespace fluidtex {
 
-namespace {
-using K = CGAL::Simple_cartesian<double>;
-using Triangles = std::vector<K::Triangle_3>;
-using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
-using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
-K::Point_3 to_cgal(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
-}  // namespace
-
 struct PatchLocator::Tree {
-  Triangles triangles;
   std::vector<std::pair<int, int>> owner;  // (patch, triangle) per entry
-  AabbTree tree;
+  std::unique_ptr<PointIndex> centroids;
+  double reach = 0.0;                      // largest centroid-to-corner distance
 };
 
 PatchLocator::PatchLocator(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include)
     : patches_(&patches), tolerance_(tolerance), tree_(std::make_unique<Tree>()) {
+  std::vector<Vec3> centres;
   for (std::size_t p = 0; p < patches.size(); ++p) {
     if (include && !(*include)[p]) continue;
     const Patch& patch = patches[p];
     for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
       const Tri& tri = patch.triangles[t];
-      tree_->triangles.emplace_back(to_cgal(patch.positions[tri[0]]), to_cgal(patch.positions[tri[1]]),
-                                    to_cgal(patch.positions[tri[2]]));
+      const Vec3 c = (patch.positions[tri[0]] + patch.positions[tri[1]] + patch.positions[tri[2]]) / 3.0;
+      for (int k = 0; k < 3; ++k) tree_->reach = std::max(tree_->reach, (patch.positions[tri[k]] - c).norm());
+      centres.push_back(c);
       tree_->owner.emplace_back(static_cast<int>(p), static_cast<int>(t));
     }
   }
-  if (!tree_->triangles.empty()) {
-    tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
-    tree_->tree.build();
-  }
+  tree_->centroids = std::make_unique<PointIndex>(centres);
 }
 
 PatchLocator::~PatchLocator() = default;
 
 void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const {
   hits.clear();
-  if (tree_->triangles.empty()) return;
+  if (tree_->owner.empty()) return;
   const double h = tolerance_;
-  const K::Iso_cuboid_3 box(p.x() - h, p.y() - h, p.z() - h, p.x() + h, p.y() + h, p.z() + h);
-  std::vector<Primitive::Id> found;
-  tree_->tree.all_intersected_primitives(box, std::back_inserter(found));
   struct Best {
     int patch, tri;
     double dist2;
     Vec3 bary;
   };
   std::vector<Best> best;
-  for (const auto& it : found) {
-    const std::size_t e = static_cast<std::size_t>(it - tree_->triangles.cbegin());
+  // Any triangle within h of p has its centroid within h + reach of p.
+  for (int e : tree_->centroids->within(p, h + tree_->reach)) {
     const auto [pi, ti] = tree_->owner[e];
     const Patch& patch = (*patches_)[pi];
     const Tri& tri = patch.triangles[ti];
@@ -67,10 +53,12 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
     const Vec3& b = patch.positions[tri[1]];
     const Vec3& c = patch.positions[tri[2]];
     const Vec3 tn = (b - a).cross(c - a);
-    if (tn.dot(n) <= 0.0) continue;  // other side of a sheet, or a fold
-    const K::Point_3 q = tree_->triangles[e].supporting_plane().projection(to_cgal(p));
-    // Inside test on the projected point (barycentric, unclamped).
-    const Vec3 qp(q.x(), q.y(), q.z());
+    const double tn2 = tn.squaredNorm();
+    if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) continue;  // degenerate, other side of a sheet, or a fold
+    const double off = tn.dot(p - a) / tn2;
+    const Vec3 qp = p - tn * off;                    // onto the triangle's plane
+    const double dist2 = off * off * tn2;
+    if (dist2 > h * h) continue;
     const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
     const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
     const double den = d00 * d11 - d01 * d01;
@@ -78,8 +66,6 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
     const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den, u = 1.0 - v - w;
     const double eps = -1e-9;
     if (u < eps || v < eps || w < eps) continue;
-    const double dist2 = (qp - p).squaredNorm();
-    if (dist2 > h * h) continue;
     auto slot = std::find_if(best.begin(), best.end(), [&](const Best& x) { return x.patch == pi; });
     if (slot == best.end()) best.push_back({pi, ti, dist2, Vec3(u, v, w)});
     else if (dist2 < slot->dist2 || (dist2 == slot->dist2 && ti < slot->tri)) *slot = {pi, ti, dist2, Vec3(u, v, w)};

@@ -111,6 +111,18 @@ SurfacePoint SurfaceIndex::at(int face, const Vec3& bary) const {
   return s;
 }
 
+std::vector<int> SurfaceIndex::faces_in_box(const Vec3& lo, const Vec3& hi) const {
+  std::vector<int> out;
+  if (tree_->triangles.empty()) return out;
+  std::vector<Primitive::Id> found;
+  tree_->tree.all_intersected_primitives(K::Iso_cuboid_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()),
+                                         std::back_inserter(found));
+  out.reserve(found.size());
+  for (const auto& it : found) out.push_back(static_cast<int>(it - tree_->triangles.cbegin()));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 SurfacePoint SurfaceIndex::closest_point(const Vec3& p) const {
   SurfacePoint s;
   if (tree_->triangles.empty()) return s;

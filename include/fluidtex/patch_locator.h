@@ -1,8 +1,8 @@
 /// @file patch_locator.h
 /// @brief Which patches cover a point of the surface, and with which uv and
 /// weight: the exact, per-point projection through the patch triangles that
-/// Gagnon et al. 2019 (Sec. 7.1) use per texel, on a CGAL AABB tree over
-/// every patch triangle. Used for the coverage measure and as the reference
+/// Gagnon et al. 2019 (Sec. 7.1) use per texel, with a k-d tree over the
+/// centroids of every patch triangle. Used for the coverage measure and as the reference
 /// ("exact") texel synthesis.
 #pragma once
 

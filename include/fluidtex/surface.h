@@ -39,6 +39,9 @@ class SurfaceIndex {
   /// Closest point on the surface to `p` (exact, over all triangles).
   SurfacePoint closest_point(const Vec3& p) const;
 
+  /// Faces whose bounding box meets the box [lo, hi], ascending.
+  std::vector<int> faces_in_box(const Vec3& lo, const Vec3& hi) const;
+
   /// The point at `bary` in `face`.
   SurfacePoint at(int face, const Vec3& bary) const;
 

@@ -1,0 +1,377 @@
+#include "fluidtex/synthesis.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fluidtex/debug_views.h"
+#include "fluidtex/error.h"
+#include "fluidtex/patch_locator.h"
+
+namespace fluidtex {
+
+const char* to_string(Blend b) { return b == Blend::ContrastPreserving ? "contrast" : "linear"; }
+const char* to_string(SynthesisMethod m) { return m == SynthesisMethod::Raster ? "raster" : "exact"; }
+
+Blend blend_from_string(const std::string& s) {
+  if (s == "contrast") return Blend::ContrastPreserving;
+  if (s == "linear") return Blend::Linear;
+  throw InputError("", "--blend must be contrast or linear (got '" + s + "')");
+}
+
+SynthesisMethod synthesis_from_string(const std::string& s) {
+  if (s == "raster") return SynthesisMethod::Raster;
+  if (s == "exact") return SynthesisMethod::Exact;
+  throw InputError("", "--synthesis must be raster or exact (got '" + s + "')");
+}
+
+namespace {
+
+constexpr int kTile = 64;
+
+/// 2D barycentric coordinates of p in (a, b, c); false when degenerate.
+bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out) {
+  const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+  if (!(std::abs(det) > 1e-300)) return false;
+  const double l1 = ((p.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (p.y() - a.y())) / det;
+  const double l2 = ((b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y())) / det;
+  out = Vec3(1.0 - l1 - l2, l1, l2);
+  return true;
+}
+
+/// Per-texel sums, in double so that the fixed summation order is the only
+/// thing that decides the result.
+struct Accumulator {
+  int channels;
+  std::vector<double> sum;  // channels per texel
+  std::vector<double> sum_w, sum_w2, best_w;
+  std::vector<int> count, best_patch, last_patch;
+  Accumulator(std::size_t n, int c)
+      : channels(c), sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), best_w(n, 0.0), count(n, 0),
+        best_patch(n, -1), last_patch(n, -1) {}
+};
+
+/// Adds one patch's contribution to texel `i` (once per patch and texel).
+struct Contributor {
+  const std::vector<Patch>& patches;
+  const Exemplar& exemplar;
+  const SynthesisOptions& options;
+  double lookup_scale;  // s / tile_size
+
+  void add(Accumulator& acc, std::size_t i, int patch, const Vec2& uv, double w) const {
+    if (!(w > 0.0) || acc.last_patch[i] == patch) return;
+    acc.last_patch[i] = patch;
+    const Patch& p = patches[patch];
+    float r[3];
+    exemplar.sample(p.anchor.x() + lookup_scale * uv.x(), p.anchor.y() + lookup_scale * uv.y(), r);
+    const int nc = acc.channels;
+    for (int c = 0; c < nc; ++c) {
+      const double centred = options.blend == Blend::ContrastPreserving ? r[c] - exemplar.mean()[c] : r[c];
+      acc.sum[i * nc + c] += w * centred;
+    }
+    acc.sum_w[i] += w;
+    acc.sum_w2[i] += w * w;
+    ++acc.count[i];
+    if (w > acc.best_w[i]) acc.best_w[i] = w, acc.best_patch[i] = patch;
+  }
+};
+
+/// Exact contribution of patch triangle (patch, tri) to a surface point q
+/// with normal n (projection onto the triangle's plane, inside test).
+bool project_on_triangle(const Patch& p, const Tri& t, const Vec3& q, const Vec3& n, double tolerance, Vec2& uv,
+                         double& w) {
+  const Vec3& a = p.positions[t[0]];
+  const Vec3& b = p.positions[t[1]];
+  const Vec3& c = p.positions[t[2]];
+  const Vec3 tn = (b - a).cross(c - a);
+  const double tn2 = tn.squaredNorm();
+  if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) return false;
+  const double dist = tn.dot(q - a) / std::sqrt(tn2);
+  if (std::abs(dist) > tolerance) return false;
+  const Vec3 qp = q - tn * (tn.dot(q - a) / tn2);
+  const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(den > 0.0)) return false;
+  const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den, l0 = 1.0 - l1 - l2;
+  if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) return false;
+  uv = l0 * p.uvs[t[0]] + l1 * p.uvs[t[1]] + l2 * p.uvs[t[2]];
+  w = l0 * p.weight[t[0]] + l1 * p.weight[t[1]] + l2 * p.weight[t[2]];
+  return true;
+}
+
+Vec3 texel_point(const SurfaceIndex& surface, const TexelMap& map, std::size_t i) {
+  return surface.at(map.face[i], map.bary[i]).position;
+}
+
+}  // namespace
+
+TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
+  const int n = atlas.size;
+  const std::size_t nf = surface.mesh().triangles.size();
+  TexelMap map;
+  map.size = n;
+  map.face.assign(static_cast<std::size_t>(n) * n, -1);
+  map.bary.assign(static_cast<std::size_t>(n) * n, Vec3::Zero());
+  // Charts own disjoint rectangles: rasterise them in parallel, faces of a
+  // chart in order (the first face to claim a texel keeps it).
+  tbb::parallel_for(std::size_t(0), atlas.charts.size(), [&](std::size_t c) {
+    for (int f : atlas.charts[c].faces) {
+      const auto& p = atlas.corner_px[f];
+      const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+      const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5))), x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
+      const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5))), y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          Vec3 l;
+          if (!bary2(Vec2(x + 0.5, y + 0.5), p[0], p[1], p[2], l)) continue;
+          if (l.minCoeff() < -1e-9) continue;
+          const std::size_t i = static_cast<std::size_t>(y) * n + x;
+          if (map.face[i] >= 0) continue;
+          map.face[i] = f;
+          map.bary[i] = l.cwiseMax(0.0) / l.cwiseMax(0.0).sum();
+        }
+      }
+    }
+  });
+  // Group texels by face (counting sort, ascending texel index per face).
+  map.face_start.assign(nf + 1, 0);
+  for (int f : map.face) {
+    if (f >= 0) ++map.face_start[f + 1];
+  }
+  for (std::size_t f = 0; f < nf; ++f) map.face_start[f + 1] += map.face_start[f];
+  map.texels.resize(map.face_start[nf]);
+  std::vector<std::uint32_t> fill(map.face_start.begin(), map.face_start.end() - 1);
+  for (std::size_t i = 0; i < map.face.size(); ++i) {
+    if (map.face[i] >= 0) map.texels[fill[map.face[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  return map;
+}
+
+void dilate(Image& image, std::vector<char>& mask, int rings) {
+  const int w = image.width, h = image.height, nc = image.channels;
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<char> next = mask;
+    tbb::parallel_for(0, h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * w + x;
+        if (mask[i]) continue;
+        float acc[4] = {0, 0, 0, 0};
+        int k = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+            const std::size_t j = static_cast<std::size_t>(yy) * w + xx;
+            if (!mask[j]) continue;
+            for (int c = 0; c < nc; ++c) acc[c] += image.pixels[j * nc + c];
+            ++k;
+          }
+        }
+        if (k == 0) continue;
+        for (int c = 0; c < nc; ++c) image.pixels[i * nc + c] = acc[c] / static_cast<float>(k);
+        next[i] = 1;
+      }
+    });
+    mask.swap(next);
+  }
+}
+
+SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
+                           const std::vector<Patch>& patches, const Exemplar& exemplar,
+                           const SynthesisOptions& options) {
+  if (!(options.tile_size > 0.0)) throw InternalError("synthesis: tile size must be > 0");
+  const int n = atlas.size;
+  const std::size_t texel_count = static_cast<std::size_t>(n) * n;
+  const int nc = exemplar.channels();
+  Accumulator acc(texel_count, nc);
+  const Contributor contribute{patches, exemplar, options, options.uv_scale / options.tile_size};
+  const double tolerance = options.projection_tolerance;
+  SynthesisResult result;
+
+  if (options.method == SynthesisMethod::Exact) {
+    // The reference: every texel projected through the patch triangles near it.
+    const PatchLocator locator(patches, tolerance);
+    tbb::parallel_for(0, n, [&](int y) {
+      std::vector<PatchHit> hits;
+      for (int x = 0; x < n; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * n + x;
+        if (map.face[i] < 0) continue;
+        const SurfacePoint s = surface.at(map.face[i], map.bary[i]);
+        locator.locate(s.position, surface.normal_at(s), hits);
+        for (const PatchHit& h : hits) contribute.add(acc, i, h.patch, h.uv, h.weight);
+      }
+    });
+  } else {
+    // Bin every patch triangle into the atlas tiles it may touch, in patch
+    // order; then each tile runs its list in that order.
+    const int tiles = (n + kTile - 1) / kTile;
+    struct Job {
+      int patch, tri;
+      int texels;  // −1: raster in one chart; else index into texel_lists (exact)
+    };
+    std::vector<std::vector<Job>> jobs(static_cast<std::size_t>(tiles) * tiles);
+    // Exact jobs: the texels (with their face) of the surface triangles under
+    // the patch triangle, sorted by tile so that each tile visits only its own.
+    struct TexelRef {
+      int tile;
+      std::uint32_t texel;
+      int face;
+    };
+    std::vector<std::vector<TexelRef>> texel_lists;
+    std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
+    std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
+    for (std::size_t p = 0; p < patches.size(); ++p) tri_px_base[p + 1] = tri_px_base[p] + patches[p].triangles.size();
+    tri_px.resize(tri_px_base.back());
+    auto push_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
+      x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
+      x1 = std::min(tiles - 1, x1 / kTile), y1 = std::min(tiles - 1, y1 / kTile);
+      for (int ty = y0; ty <= y1; ++ty) {
+        for (int tx = x0; tx <= x1; ++tx) jobs[static_cast<std::size_t>(ty) * tiles + tx].push_back(job);
+      }
+    };
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+      const Patch& patch = patches[p];
+      if (!(patch.kt > 0.0)) continue;
+      for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+        const Tri& tri = patch.triangles[t];
+        if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
+        const int c0 = atlas.face_chart[patch.projections[tri[0]].face];
+        const bool one_chart = atlas.face_chart[patch.projections[tri[1]].face] == c0 &&
+                               atlas.face_chart[patch.projections[tri[2]].face] == c0;
+        if (one_chart) {
+          auto& px = tri_px[tri_px_base[p] + t];
+          for (int k = 0; k < 3; ++k) {
+            const SurfacePoint& s = patch.projections[tri[k]];
+            const auto& corner = atlas.corner_px[s.face];
+            px[k] = s.bary[0] * corner[0] + s.bary[1] * corner[1] + s.bary[2] * corner[2];
+          }
+          const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+          push_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)),
+                   static_cast<int>(std::floor(lo.y() - 0.5)), static_cast<int>(std::ceil(hi.x())),
+                   static_cast<int>(std::ceil(hi.y())));
+        } else {
+          ++result.exact_triangles;
+          Vec3 lo = patch.positions[tri[0]], hi = lo;
+          for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
+          std::vector<int> faces = surface.faces_in_box(lo - Vec3::Constant(tolerance), hi + Vec3::Constant(tolerance));
+          std::vector<TexelRef> refs;
+          for (int f : faces) {
+            for (std::uint32_t k = map.face_start[f]; k < map.face_start[f + 1]; ++k) {
+              const std::uint32_t i = map.texels[k];
+              const int x = static_cast<int>(i % n), y = static_cast<int>(i / n);
+              refs.push_back({(y / kTile) * tiles + x / kTile, i, f});
+            }
+          }
+          if (refs.empty()) continue;
+          std::sort(refs.begin(), refs.end(),
+                    [](const TexelRef& a, const TexelRef& b) { return a.tile != b.tile ? a.tile < b.tile : a.texel < b.texel; });
+          std::vector<int> touched;
+          for (const TexelRef& r : refs) {
+            if (touched.empty() || touched.back() != r.tile) touched.push_back(r.tile);
+          }
+          texel_lists.push_back(std::move(refs));
+          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(texel_lists.size() - 1)};
+          for (int tile : touched) jobs[tile].push_back(job);
+        }
+      }
+    }
+    tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t tile) {
+      const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
+      const int tx1 = std::min(n, tx0 + kTile), ty1 = std::min(n, ty0 + kTile);
+      for (const Job& job : jobs[tile]) {
+        const Patch& patch = patches[job.patch];
+        const Tri& tri = patch.triangles[job.tri];
+        if (job.texels < 0) {
+          const auto& px = tri_px[tri_px_base[job.patch] + job.tri];
+          const int chart = atlas.face_chart[patch.projections[tri[0]].face];
+          const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+          const int x0 = std::max(tx0, static_cast<int>(std::floor(lo.x() - 0.5)));
+          const int x1 = std::min(tx1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
+          const int y0 = std::max(ty0, static_cast<int>(std::floor(lo.y() - 0.5)));
+          const int y1 = std::min(ty1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
+          for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+              const std::size_t i = static_cast<std::size_t>(y) * n + x;
+              if (map.face[i] < 0 || atlas.face_chart[map.face[i]] != chart) continue;
+              Vec3 l;
+              if (!bary2(Vec2(x + 0.5, y + 0.5), px[0], px[1], px[2], l) || l.minCoeff() < -1e-9) continue;
+              const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+              const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
+              contribute.add(acc, i, job.patch, uv, w);
+            }
+          }
+        } else {
+          const std::vector<TexelRef>& refs = texel_lists[job.texels];
+          auto it = std::lower_bound(refs.begin(), refs.end(), static_cast<int>(tile),
+                                     [](const TexelRef& r, int t) { return r.tile < t; });
+          for (; it != refs.end() && it->tile == static_cast<int>(tile); ++it) {
+            const SurfacePoint s = surface.at(it->face, map.bary[it->texel]);
+            Vec2 uv;
+            double w;
+            if (project_on_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, uv, w)) {
+              contribute.add(acc, it->texel, job.patch, uv, w);
+            }
+          }
+        }
+      }
+    });
+  }
+
+  // Resolve Eq. 7 (or linear), clamp, count holes.
+  Image& color = result.color;
+  color.width = color.height = n;
+  color.channels = nc;
+  color.pixels.assign(texel_count * nc, 0.0f);
+  std::vector<char> mask(texel_count, 0);
+  std::size_t chart = 0, bare = 0, clamped = 0;
+  for (std::size_t i = 0; i < texel_count; ++i) {
+    if (map.face[i] < 0) continue;
+    ++chart;
+    mask[i] = 1;
+    if (!(acc.sum_w[i] > 0.0)) {
+      ++bare;
+      for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
+      continue;
+    }
+    bool out_of_range = false;
+    for (int c = 0; c < nc; ++c) {
+      const double v = options.blend == Blend::ContrastPreserving
+                           ? acc.sum[i * nc + c] / std::sqrt(acc.sum_w2[i]) + exemplar.mean()[c]  // Eq. 7
+                           : acc.sum[i * nc + c] / acc.sum_w[i];
+      out_of_range = out_of_range || v < 0.0 || v > 1.0;
+      color.pixels[i * nc + c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
+    }
+    clamped += out_of_range;
+  }
+  result.chart_texels = chart;
+  result.uncovered_texels = bare;
+  result.clamped_texels = clamped;
+  const int rings = 8;
+  if (options.aov) {
+    auto layer = [&](int channels) {
+      Image im;
+      im.width = im.height = n;
+      im.channels = channels;
+      im.pixels.assign(texel_count * channels, 0.0f);
+      return im;
+    };
+    result.weight = layer(1);
+    result.count = layer(1);
+    result.patch = layer(3);
+    for (std::size_t i = 0; i < texel_count; ++i) {
+      if (map.face[i] < 0) continue;
+      result.weight.pixels[i] = static_cast<float>(acc.sum_w[i]);
+      result.count.pixels[i] = static_cast<float>(acc.count[i]);
+      if (acc.best_patch[i] >= 0) {
+        const auto rgb = id_color(patches[acc.best_patch[i]].id);
+        for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
+      }
+    }
+  }
+  dilate(color, mask, rings);
+  return result;
+}
+
+}  // namespace fluidtex
