@@ -119,8 +119,10 @@ void update_weights(Patch& patch, const TrackingOptions& options) {
   const std::size_t nv = patch.positions.size();
   patch.weight.resize(nv);
   const double d_uv = options.radius;
+  const double reach = (1.0 + options.selection_margin) * options.radius;
   for (std::size_t v = 0; v < nv; ++v) {
-    const double radial = std::max(0.0, 1.0 - patch.uvs[v].norm() / d_uv);  // p_uv is the origin
+    const double r = patch.uvs[v].norm();  // p_uv is the origin
+    const double radial = std::max(0.0, 1.0 - r / d_uv) + kCoverageTail * std::max(0.0, 1.0 - r / reach);
     const double ks = radial * options.uv_scale * (patch.border[v] ? 0.0 : 1.0) * patch.quality[v];  // Eq. 4
     patch.weight[v] = static_cast<float>(ks * patch.kt);                                              // Eq. 2
   }

@@ -71,7 +71,8 @@ bool remesh_disk(DiskMesh& mesh, double edge_length, int iterations) {
   if (!to_surface_mesh(mesh, sm)) return false;
   namespace PMP = CGAL::Polygon_mesh_processing;
   PMP::isotropic_remeshing(sm.faces(), edge_length, sm,
-                           CGAL::parameters::number_of_iterations(static_cast<unsigned>(iterations)));
+                           CGAL::parameters::number_of_iterations(static_cast<unsigned>(iterations))
+                               .collapse_constraints(false));
   sm.collect_garbage();
   DiskMesh out;
   std::unordered_map<std::uint32_t, int> index;

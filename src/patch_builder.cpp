@@ -19,10 +19,15 @@ std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSa
   const double r2 = select_radius * select_radius;
   DiskRegionOptions region;
   region.accept = [&](int f) {
-    for (int v : mesh.triangles[f]) {
-      if ((mesh.positions[v] - c).squaredNorm() > r2) return false;
-    }
-    return surface.face_normals()[f].dot(n) > patch_vertex_angle;  // the plane test with pva
+    // A triangle reaching into the selection ball counts (any corner or its
+    // centroid inside): on meshes whose edges are a sizeable fraction of d, a
+    // test on all corners would leave ragged, shrunken patches and gaps
+    // between them.
+    const Tri& t = mesh.triangles[f];
+    const Vec3 centroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+    bool reaches = (centroid - c).squaredNorm() <= r2;
+    for (int v : t) reaches = reaches || (mesh.positions[v] - c).squaredNorm() <= r2;
+    return reaches && surface.face_normals()[f].dot(n) > patch_vertex_angle;  // the plane test with pva
   };
   region.priority = [&](int f) {
     const Tri& t = mesh.triangles[f];

@@ -1,6 +1,7 @@
 #include "fluidtex/pipeline.h"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -12,6 +13,7 @@
 #include "fluidtex/sequence.h"
 #include "fluidtex/stats.h"
 #include "fluidtex/tracker.h"
+#include "fluidtex/uv_mesh_writer.h"
 
 namespace fluidtex {
 
@@ -48,9 +50,22 @@ std::string OutputOptions::mesh() const {
   return checked_pattern(mesh_pattern, dir + "/mesh.####.obj", {".obj", ".ply"}, "--mesh");
 }
 
+void SynthesisJobOptions::validate() const {
+  atlas.validate();
+  for (const std::string& layer : aov) {
+    if (layer != "weight" && layer != "count" && layer != "patch") {
+      throw InputError("", "--aov: unknown layer '" + layer + "' (use weight, count, patch)");
+    }
+  }
+}
+
 void JobOptions::validate() const {
   input.validate();
   tracking.validate();
+  synthesis.validate();
+  if (exemplar.empty() && !synthesis.track_only) {
+    throw InputError("", "-e/--exemplar: an exemplar image is required (or --track-only)");
+  }
   if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
   (void)output.atlas();
   (void)output.mesh();
@@ -61,6 +76,74 @@ std::string state_path(const std::string& dir, int frame) {
   return FramePattern(dir + "/state/patches.####.bin").path(frame);
 }
 
+Exemplar load_exemplar(const std::string& path, bool displacement) {
+  Image image = read_image(path);
+  if (displacement && image.channels >= 3) {
+    Image grey;
+    grey.width = image.width, grey.height = image.height, grey.channels = 1;
+    grey.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
+      const float* p = &image.pixels[i * image.channels];
+      grey.pixels[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+    }
+    image = std::move(grey);
+  } else if (displacement && image.channels == 2) {
+    image.channels = 1;  // grey + alpha: keep grey
+    for (std::size_t i = 0; i < static_cast<std::size_t>(image.width) * image.height; ++i) image.pixels[i] = image.pixels[2 * i];
+    image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
+  }
+  if (image.channels == 2) throw InputError(path, "exemplar has 2 channels (expected grey, RGB or RGBA)");
+  for (float v : image.pixels) {
+    if (!std::isfinite(v)) throw InputError(path, "exemplar has NaN or infinite pixels");
+  }
+  return Exemplar(std::move(image));
+}
+
+void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
+                      const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
+                      int frame, FrameStats& stats) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const SynthesisJobOptions& so = options.synthesis;
+  auto t0 = Clock::now();
+  const Atlas atlas = build_atlas(surface, so.atlas);
+  stats.seconds.emplace_back("atlas", seconds_since(t0));
+  t0 = Clock::now();
+  const TexelMap map = build_texel_map(surface, atlas);
+  SynthesisOptions synth;
+  synth.blend = so.blend;
+  synth.method = so.method;
+  synth.uv_scale = resolved.uv_scale;
+  // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
+  // a tile, each patch a different part of it (its random anchor).
+  synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;
+  synth.projection_tolerance = 0.25 * resolved.max_projection;
+  synth.aov = !so.aov.empty();
+  const SynthesisResult result = synthesize(surface, atlas, map, patches, exemplar, synth);
+  const double synth_seconds = seconds_since(t0);
+  stats.seconds.emplace_back("synthesis", synth_seconds);
+
+  t0 = Clock::now();
+  ImageWriteOptions write;
+  write.depth = so.depth;
+  write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
+  for (const std::string& layer : so.aov) {
+    const Image& image = layer == "weight" ? result.weight : layer == "count" ? result.count : result.patch;
+    ImageWriteOptions aov_write;
+    aov_write.depth = layer == "patch" ? PixelDepth::Default : PixelDepth::Float;
+    write_image(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), image, aov_write);
+  }
+  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas));
+  stats.seconds.emplace_back("write", seconds_since(t0));
+
+  stats.uncovered_fraction = result.uncovered_fraction();
+  stats.extra.emplace_back("packing_efficiency", atlas.packing_efficiency);
+  stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
+  stats.extra.emplace_back("chart_texels", static_cast<double>(result.chart_texels));
+  stats.extra.emplace_back("clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
+  stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);
+}
+
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -69,7 +152,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   };
   options.validate();
   const Sequence sequence(options.input);
-  if (!options.exemplar.empty()) (void)read_image(options.exemplar);  // fail early when unreadable
+  std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
+  if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
 
   TrackerSettings settings;
   settings.method = options.tracking;
@@ -136,15 +220,22 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
       write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
       write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
     }
-    // Coverage on the surface (area with Σw = 0); the atlas's texel count
-    // replaces it once synthesis runs.
-    t0 = Clock::now();
-    const PatchLocator locator(tracker->patches(), tracker->settings().method.max_projection);
-    frame_stats.uncovered_fraction = uncovered_area_fraction(*tracker->surface(), locator);
-    frame_stats.seconds.emplace_back("coverage", seconds_since(t0));
+    frame_stats.seconds.emplace_back("debug", seconds_since(t0));
+    if (exemplar) {
+      reporter.progress(i, sequence.size(), "synthesis");
+      synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().method, *exemplar, options, frame,
+                       frame_stats);
+    } else {
+      // Track only: coverage measured on the surface (area with Σw = 0).
+      t0 = Clock::now();
+      const PatchLocator locator(tracker->patches(), tracker->settings().method.max_projection);
+      frame_stats.uncovered_fraction = uncovered_area_fraction(*tracker->surface(), locator);
+      frame_stats.seconds.emplace_back("coverage", seconds_since(t0));
+    }
+    // The state goes last: its presence means the frame is complete (--resume).
     t0 = Clock::now();
     if (options.output.write_state) tracker->save(state_path(options.output.dir, frame));
-    frame_stats.seconds.emplace_back("write", seconds_since(t0));
+    frame_stats.seconds.emplace_back("state", seconds_since(t0));
     stats.add(frame_stats);
     ++summary.frames;
   }

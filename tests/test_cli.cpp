@@ -67,7 +67,7 @@ TEST(Cli, InfoReportsABadFrameAndExits2) {
 TEST(Cli, RunMissingInputIsOneLineErrorAndNoOutput) {
   test::TempDir dir;
   std::string out;
-  EXPECT_EQ(run_fluidtex("run -i " + q(dir.file("none.####.ply")) + " -o " + q(dir.file("out")), &out), 2);
+  EXPECT_EQ(run_fluidtex("run --track-only -i " + q(dir.file("none.####.ply")) + " -o " + q(dir.file("out")), &out), 2);
   EXPECT_NE(out.find("none.####.ply"), std::string::npos) << out;
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
   EXPECT_FALSE(fs::exists(dir.file("out")));
@@ -114,16 +114,68 @@ TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
   EXPECT_EQ(run_fluidtex("run -i x.####.ply -o o --config " + q(dir.file("missing.toml")), &out), 2);
 }
 
-TEST(Cli, RunWritesStatsPerFrame) {
+TEST(Cli, RunWritesEveryOutputPerFrame) {
   test::TempDir dir;
   std::string out;
-  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 10", &out), 0);
-  ASSERT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -o " + q(dir.file("out")), &out), 0)
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 16 --exemplar gravel "
+                         "--exemplar-size 64", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
+                             " -o " + q(dir.file("out")) + " --atlas-size 128 --aov weight,count --debug-views",
+                         &out),
+            0)
       << out;
-  const std::string stats = test::read_file(dir.path() / "out" / "stats.jsonl");
+  const fs::path o = dir.path() / "out";
+  for (int f = 1; f <= 3; ++f) {
+    const std::string n = "000" + std::to_string(f);
+    EXPECT_TRUE(fs::exists(o / ("atlas." + n + ".exr"))) << n;
+    EXPECT_TRUE(fs::exists(o / ("mesh." + n + ".obj"))) << n;
+    EXPECT_TRUE(fs::exists(o / "state" / ("patches." + n + ".bin"))) << n;
+    EXPECT_TRUE(fs::exists(o / "aov" / ("weight." + n + ".exr"))) << n;
+    EXPECT_TRUE(fs::exists(o / "aov" / ("count." + n + ".exr"))) << n;
+    EXPECT_TRUE(fs::exists(o / "debug" / ("disks." + n + ".ply"))) << n;
+  }
+  const std::string stats = test::read_file(o / "stats.jsonl");
   EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 3) << stats;
   EXPECT_NE(stats.find("\"frame\":1,"), std::string::npos) << stats;
-  EXPECT_NE(stats.find("\"patches\":{"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"patches\":{\"fading_in\":"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"uncovered_fraction\":0,"), std::string::npos) << stats;
+  // No temporary file is left anywhere.
+  for (const auto& e : fs::recursive_directory_iterator(o)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  }
+}
+
+TEST(Cli, ResumeContinuesFromTheLastState) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 4 --resolution 12 --exemplar gravel "
+                         "--exemplar-size 32", &out), 0);
+  const std::string base = "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
+                           " --atlas-size 64 ";
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("full")), &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --frames 1-2", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --resume", &out), 0) << out;
+  for (const char* f : {"atlas.0003.exr", "atlas.0004.exr", "mesh.0004.obj", "state/patches.0004.bin"}) {
+    EXPECT_EQ(test::read_file(dir.path() / "full" / f), test::read_file(dir.path() / "part" / f)) << f;
+  }
+  const std::string stats = test::read_file(dir.path() / "part" / "stats.jsonl");
+  EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 4) << stats;
+}
+
+TEST(Cli, SameOutputForOneAndTwoThreads) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 16 --exemplar gravel "
+                         "--exemplar-size 64", &out), 0);
+  const std::string base = "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
+                           " --atlas-size 128 ";
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t1")) + " --threads 1", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t2")) + " --threads 2", &out), 0) << out;
+  for (const char* f : {"atlas.0003.exr", "mesh.0003.obj", "state/patches.0003.bin"}) {
+    const std::string a = test::read_file(dir.path() / "t1" / f), b = test::read_file(dir.path() / "t2" / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_TRUE(a == b) << f;
+  }
 }
 
 }  // namespace

@@ -131,11 +131,15 @@ TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {
                 (patch->positions[tri[1]] - patch->positions[tri[0]]).norm(), 1e-6);
   }
   EXPECT_NEAR(area_uv, area3, 1e-9 * area3);
-  // Every vertex within the selection radius, the centre at uv 0.
+  // Every vertex within the selection radius (plus one grid diagonal: a
+  // triangle reaching into the ball is taken whole), the centre at uv 0.
+  double farthest = 0.0;
   for (std::size_t v = 0; v < patch->num_vertices(); ++v) {
-    EXPECT_LE((patch->positions[v] - Vec3(0.52, 0.47, 0)).norm(), 1.6 * 0.15 + 1e-9);
+    farthest = std::max(farthest, (patch->positions[v] - Vec3(0.52, 0.47, 0)).norm());
+    EXPECT_LE((patch->positions[v] - Vec3(0.52, 0.47, 0)).norm(), 1.6 * 0.15 + std::sqrt(2.0) / 40 + 1e-9);
     EXPECT_NEAR(patch->uvs[v].norm(), (patch->positions[v] - Vec3(0.52, 0.47, 0)).norm(), 1e-6);
   }
+  EXPECT_GT(farthest, 1.6 * 0.15 - std::sqrt(2.0) / 40);  // and it reaches out that far
   Patch p = *patch;
   EXPECT_FALSE(update_distortion(p, surface, o));
   EXPECT_NEAR(p.max_distortion, 1.0, 1e-6);
@@ -182,11 +186,14 @@ TEST(Weights, Eq4SpatialTimesTemporal) {
   TrackingOptions o;
   o.radius = 0.1;
   o.uv_scale = 1.0;
+  o.selection_margin = 0.6;
   update_weights(p, o);
-  EXPECT_NEAR(p.weight[0], 0.5, 1e-7);                     // centre: K_S = 1
-  EXPECT_NEAR(p.weight[1], (1 - 0.5) * 0.5 * 0.5, 1e-7);   // half way, Q_V = 0.5
-  EXPECT_EQ(p.weight[2], 0.0f);                            // beyond d_uv: clamped
-  EXPECT_EQ(p.weight[3], 0.0f);                            // border: d_V = 0
+  // Eq. 4 plus the coverage tail ε·(1 − r/((1 + β)d)), (1 + β)d = 0.16.
+  const double eps = kCoverageTail;
+  EXPECT_NEAR(p.weight[0], (1 + eps) * 0.5, 1e-7);                                // centre: K_S = 1
+  EXPECT_NEAR(p.weight[1], ((1 - 0.5) + eps * (1 - 0.05 / 0.16)) * 0.5 * 0.5, 1e-7);  // half way, Q_V = 0.5
+  EXPECT_EQ(p.weight[2], 0.0f);                                                   // beyond (1 + β)d
+  EXPECT_EQ(p.weight[3], 0.0f);                                                   // border: d_V = 0
 }
 
 // --- Sampling ------------------------------------------------------------------

@@ -102,15 +102,49 @@ struct RunArgs {
   std::string criterion = "ellipsoid";
   std::string fading = "density";
   std::string advection = "heun";
+  std::string blend = "contrast";
+  std::string synthesis = "raster";
+  bool float_output = false;
   int verbosity = 0;
   bool quiet = false;
   bool print_config = false;
+  std::string config;
 };
+
+/// Applies a TOML config file (the format --print-config writes) to the
+/// options of `cmd` that were not given on the command line.
+void apply_config(CLI::App* cmd, const std::string& path) {
+  std::vector<CLI::ConfigItem> items;
+  try {
+    items = CLI::ConfigTOML().from_file(path);
+  } catch (const CLI::FileError&) {
+    throw InputError(path, "cannot read config file");
+  } catch (const CLI::ParseError& e) {
+    throw InputError(path, std::string("malformed config file: ") + e.what());
+  }
+  for (const CLI::ConfigItem& item : items) {
+    if (item.name == "++" || item.name == "--") continue;  // section markers
+    if (!item.parents.empty() && !(item.parents.size() == 1 && item.parents[0] == cmd->get_name())) continue;
+    CLI::Option* op = cmd->get_option_no_throw("--" + item.name);
+    if (op == nullptr || !op->get_configurable()) throw InputError(path, "unknown option '" + item.name + "'");
+    if (op->count() > 0) continue;
+    try {
+      op->add_result(item.inputs);
+      op->run_callback();
+    } catch (const CLI::ParseError& e) {
+      throw InputError(path, "option '" + item.name + "': " + e.what());
+    }
+  }
+}
 
 void add_run(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* run = app.add_subcommand("run", "Track patches and synthesise the texture atlas of every frame");
-  run->set_config("--config", "", "Read options from a TOML file (see --print-config)");
+  // CLI11 2.1 does not read a subcommand's own config file before its
+  // callback, so --config is applied by hand (apply_config).
+  run->add_option("--config", args->config, "Read options from a TOML file (see --print-config); "
+                                            "options given on the command line win")
+      ->configurable(false);
   add_input_options(run, args->job.input);
   run->add_option("-o,--output", args->job.output.dir, "Output folder")->required();
   run->add_option("-e,--exemplar", args->job.exemplar,
@@ -140,13 +174,36 @@ void add_run(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"heun", "euler"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
+  SynthesisJobOptions& so = args->job.synthesis;
+  run->add_option("--atlas-size", so.atlas.size, "Atlas width and height in texels")->capture_default_str()->group("Synthesis");
+  run->add_option("--gutter", so.atlas.gutter, "Texels between charts, filled by dilation")->capture_default_str()->group("Synthesis");
+  run->add_option("--blend", args->blend,
+                  "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)")
+      ->check(CLI::IsMember({"contrast", "linear"}))
+      ->capture_default_str()
+      ->group("Synthesis");
+  run->add_option("--synthesis", args->synthesis,
+                  "raster: patch triangles rasterised in atlas space; exact: per-texel projection (reference, slow)")
+      ->check(CLI::IsMember({"raster", "exact"}))
+      ->capture_default_str()
+      ->group("Synthesis");
+  run->add_option("--aov", so.aov, "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch")
+      ->delimiter(',')
+      ->group("Synthesis");
+  run->add_flag("--displacement", so.displacement,
+                "Write a one-channel height atlas (the exemplar is turned to grey)")->group("Synthesis");
+  run->add_flag("--float", args->float_output, "32-bit float EXR/TIFF instead of half / 16-bit")->group("Synthesis");
+  run->add_flag("--track-only", so.track_only, "Track patches only: state files and stats, no atlas or mesh")
+      ->group("Synthesis");
   run->add_option("--threads", args->job.threads, "Worker threads (0 = all cores)")->capture_default_str();
   run->add_option("--seed", args->job.seed, "Random seed")->capture_default_str();
   run->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
   run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
-  run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit");
+  run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit")
+      ->configurable(false);
 
   run->callback([run, args, &exit_code]() {
+    if (!args->config.empty()) apply_config(run, args->config);
     if (args->print_config) {
       std::cout << run->config_to_str(true, true);
       exit_code = 0;
@@ -155,6 +212,9 @@ void add_run(CLI::App& app, int& exit_code) {
     args->job.tracking.criterion = criterion_from_string(args->criterion);
     args->job.tracking.fading = fading_from_string(args->fading);
     args->job.advection = advection_from_string(args->advection);
+    args->job.synthesis.blend = blend_from_string(args->blend);
+    args->job.synthesis.method = synthesis_from_string(args->synthesis);
+    if (args->float_output) args->job.synthesis.depth = PixelDepth::Float;
     TerminalReporter reporter(args->verbosity, args->quiet);
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);

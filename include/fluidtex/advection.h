@@ -57,8 +57,19 @@ SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous
 /// most patches within a few frames.
 bool update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options);
 
+/// Weight of the coverage tail (see update_weights).
+constexpr double kCoverageTail = 0.01;
+
 /// w_V = K_S(V)·K_t with Eq. 4, K_S = max(0, 1 − |V_uv − p_uv|/d_uv)·s·d_V·Q_V,
 /// d_uv = d (uv is metric). Fills `patch.weight`.
+///
+/// Departure from the paper: a faint tail, kCoverageTail·max(0, 1 − r/((1+β)d)),
+/// is added to the radial term. A Poisson distribution is maximal only up to
+/// its candidate spacing, so slivers of surface slightly farther than d from
+/// every disk exist; Eq. 4 alone gives them Σw = 0 (a hole showing the mean
+/// colour). With the tail, they show the texture of the patches around them,
+/// and since Eq. 7 normalises by sqrt(Σw²) the tail is invisible wherever a
+/// patch covers the point with its normal weight (it changes R' by < 1e-4).
 void update_weights(Patch& patch, const TrackingOptions& options);
 
 }  // namespace fluidtex

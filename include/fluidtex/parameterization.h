@@ -26,8 +26,10 @@ struct DiskMesh {
 bool flatten_lscm(const DiskMesh& mesh, std::vector<Vec2>& uvs, std::string* failure = nullptr);
 
 /// Isotropic remeshing of a disk to edges of about `edge_length`; vertices
-/// stay on the input surface, border vertices on its border. Returns false
-/// when the input is not a manifold mesh (the input is then left as is).
+/// stay on the input surface, and border edges are split but never collapsed,
+/// so the border keeps its exact shape (the remeshed disk covers exactly what
+/// the input covered). Returns false when the input is not a manifold mesh
+/// (the input is then left as is).
 bool remesh_disk(DiskMesh& mesh, double edge_length, int iterations = 3);
 
 }  // namespace fluidtex

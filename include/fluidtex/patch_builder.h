@@ -4,8 +4,9 @@
 /// Conformal Maps (Lévy et al. 2002, CGAL's LSCM_parameterizer_3).
 ///
 /// Selection grows a region from the disk's triangle in order of distance to
-/// the centre, taking a triangle only when its three corners are within
-/// (1 + β)·d of the centre and its normal passes the plane test N_T·N > pva.
+/// the centre, taking a triangle when it reaches within (1 + β)·d of the
+/// centre (a corner or its centroid) and its normal passes the plane test
+/// N_T·N > pva.
 /// Departure from the paper, which only says "the polygons surrounding the
 /// disk": the growth keeps the region a topological disk at every step
 /// (disk_region.h), so LSCM always applies.

@@ -6,8 +6,12 @@
 #include <string>
 
 #include "fluidtex/advection.h"
+#include "fluidtex/atlas.h"
+#include "fluidtex/image_io.h"
+#include "fluidtex/synthesis.h"
 #include "fluidtex/options.h"
 #include "fluidtex/report.h"
+#include "fluidtex/stats.h"
 
 namespace fluidtex {
 
@@ -25,9 +29,23 @@ struct OutputOptions {
   std::string mesh() const;
 };
 
+/// How each frame's atlas is made and written (Sec. 6.4).
+struct SynthesisJobOptions {
+  AtlasOptions atlas;
+  Blend blend = Blend::ContrastPreserving;           ///< --blend
+  SynthesisMethod method = SynthesisMethod::Raster;  ///< --synthesis
+  std::vector<std::string> aov;                      ///< --aov: weight, count, patch
+  bool displacement = false;   ///< --displacement: one-channel height atlas from a grey exemplar
+  PixelDepth depth = PixelDepth::Default;            ///< --float for 32-bit EXR/TIFF
+  bool track_only = false;     ///< --track-only: no atlas, no mesh (state and stats only)
+
+  void validate() const;
+};
+
 struct JobOptions {
   InputOptions input;
   TrackingOptions tracking;
+  SynthesisJobOptions synthesis;
   Advection advection = Advection::Heun;  ///< --advection
   OutputOptions output;
   std::string exemplar;   ///< -e: exemplar image
@@ -45,6 +63,17 @@ struct JobSummary {
 
 /// The state file of `frame` under `dir` (DIR/state/patches.####.bin).
 std::string state_path(const std::string& dir, int frame);
+
+/// The exemplar as synthesis uses it: read through OpenImageIO, turned to
+/// one channel (Rec. 709 luminance) for displacement.
+Exemplar load_exemplar(const std::string& path, bool displacement);
+
+/// Synthesis of one frame from a tracker's state: atlas, texel map, Eq. 7,
+/// then the atlas image (and AOVs) and the UV mesh written atomically.
+/// Fills the synthesis numbers and stage seconds of `stats`.
+void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
+                      const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
+                      int frame, FrameStats& stats);
 
 /// Runs the job. Throws InputError for bad input (before any output is
 /// written when the problem can be seen up front), InternalError otherwise.
