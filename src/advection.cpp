@@ -68,6 +68,22 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
 }
 
 bool update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options) {
+  // Only where the patch contributes (|uv| < d, K_S > 0) can its distortion
+  // show; the margin out to (1 + β)d only keeps the border away from it.
+  auto inside = [&](int v) { return patch.uvs[v].norm() < options.radius; };
+  // Margin triangles (no corner inside the disk) stretched beyond δmax are
+  // cut off: they carry almost no weight, and unbounded they would grow
+  // without limit in diverging flows.
+  std::vector<std::uint8_t> keep(patch.triangles.size(), 1);
+  bool cut = false;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Tri& tri = patch.triangles[t];
+    if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) continue;
+    const double d = triangle_distortion(patch.rest[t], patch.positions[tri[0]], patch.positions[tri[1]],
+                                         patch.positions[tri[2]]);
+    if (d > options.max_distortion) keep[t] = 0, cut = true;
+  }
+  if (cut) remove_triangles(patch, keep, surface);
   const std::size_t nv = patch.positions.size();
   std::vector<double> sum(nv, 0.0);
   std::vector<int> count(nv, 0);
@@ -75,9 +91,6 @@ bool update_distortion(Patch& patch, const SurfaceIndex& surface, const Tracking
   bool distorted = false;
   patch.max_distortion = 1.0;
   const auto& component = surface.face_component();
-  // Only where the patch contributes (|uv| < d, K_S > 0) can its distortion
-  // show; the margin out to (1 + β)d only keeps the border away from it.
-  auto inside = [&](int v) { return patch.uvs[v].norm() < options.radius; };
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& tri = patch.triangles[t];
     const bool visible = inside(tri[0]) || inside(tri[1]) || inside(tri[2]);

@@ -29,13 +29,22 @@ void update_border(Patch& patch, const SurfaceIndex& surface) {
 }
 
 void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface) {
+  std::vector<std::uint8_t> keep_triangle(patch.triangles.size());
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Tri& tri = patch.triangles[t];
+    keep_triangle[t] = keep[tri[0]] && keep[tri[1]] && keep[tri[2]];
+  }
+  remove_triangles(patch, keep_triangle, surface);
+}
+
+void remove_triangles(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface) {
   const std::size_t nv = patch.positions.size();
   std::vector<std::uint8_t> used(nv, 0);
   std::vector<Tri> triangles;
   std::vector<RestTriangle> rest;
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& tri = patch.triangles[t];
-    if (keep[tri[0]] && keep[tri[1]] && keep[tri[2]]) {
+    if (keep[t]) {
       triangles.push_back(tri);
       rest.push_back(patch.rest[t]);
       used[tri[0]] = used[tri[1]] = used[tri[2]] = 1;

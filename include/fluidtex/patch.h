@@ -55,4 +55,8 @@ void update_border(Patch& patch, const SurfaceIndex& surface);
 /// any vertex no triangle uses, keeping the order of the rest.
 void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface);
 
+/// Removes the triangles where `keep` is 0, then the vertices no triangle
+/// uses, keeping the order of the rest.
+void remove_triangles(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface);
+
 }  // namespace fluidtex
