@@ -1,42 +1,71 @@
 #include "fluidtex/patch_locator.h"
 
-#include "fluidtex/point_index.h"
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/blocked_range.h>
+#include "fluidtex/point_index.h"
 
 namespace fluidtex {
 
+// Triangles are kept in levels by size: level k holds the triangles whose
+// centroid-to-corner reach is at most base·2^k, in a k-d tree over their
+// centroids queried with radius tolerance + base·2^k. A few stretched
+// triangles then cost only their own level instead of widening every query.
 struct PatchLocator::Tree {
-  std::vector<std::pair<int, int>> owner;  // (patch, triangle) per entry
-  std::unique_ptr<PointIndex> centroids;
-  double reach = 0.0;                      // largest centroid-to-corner distance
+  struct Level {
+    double reach = 0.0;
+    std::vector<std::pair<int, int>> owner;  // (patch, triangle) per entry
+    std::vector<Vec3> centres;
+    std::unique_ptr<PointIndex> index;
+  };
+  std::vector<Level> levels;
 };
 
 PatchLocator::PatchLocator(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include)
     : patches_(&patches), tolerance_(tolerance), tree_(std::make_unique<Tree>()) {
-  std::vector<Vec3> centres;
+  struct Entry {
+    int patch, tri;
+    Vec3 centre;
+    double reach;
+  };
+  std::vector<Entry> entries;
+  std::vector<double> reaches;
   for (std::size_t p = 0; p < patches.size(); ++p) {
     if (include && !(*include)[p]) continue;
     const Patch& patch = patches[p];
     for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
       const Tri& tri = patch.triangles[t];
       const Vec3 c = (patch.positions[tri[0]] + patch.positions[tri[1]] + patch.positions[tri[2]]) / 3.0;
-      for (int k = 0; k < 3; ++k) tree_->reach = std::max(tree_->reach, (patch.positions[tri[k]] - c).norm());
-      centres.push_back(c);
-      tree_->owner.emplace_back(static_cast<int>(p), static_cast<int>(t));
+      double reach = 0.0;
+      for (int k = 0; k < 3; ++k) reach = std::max(reach, (patch.positions[tri[k]] - c).norm());
+      entries.push_back({static_cast<int>(p), static_cast<int>(t), c, reach});
+      reaches.push_back(reach);
     }
   }
-  tree_->centroids = std::make_unique<PointIndex>(centres);
+  if (entries.empty()) return;
+  // Base size: the median reach (most triangles land in the first level).
+  std::nth_element(reaches.begin(), reaches.begin() + reaches.size() / 2, reaches.end());
+  const double base = std::max(reaches[reaches.size() / 2], 1e-12);
+  for (const Entry& e : entries) {
+    std::size_t level = 0;
+    while (base * std::ldexp(1.0, static_cast<int>(level)) < e.reach) ++level;
+    if (tree_->levels.size() <= level) tree_->levels.resize(level + 1);
+    Tree::Level& L = tree_->levels[level];
+    L.reach = base * std::ldexp(1.0, static_cast<int>(level));
+    L.owner.emplace_back(e.patch, e.tri);
+    L.centres.push_back(e.centre);
+  }
+  for (Tree::Level& L : tree_->levels) L.index = std::make_unique<PointIndex>(L.centres);
 }
 
 PatchLocator::~PatchLocator() = default;
 
 void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const {
   hits.clear();
-  if (tree_->owner.empty()) return;
+  if (tree_->levels.empty()) return;
   const double h = tolerance_;
   struct Best {
     int patch, tri;
@@ -45,30 +74,35 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
   };
   std::vector<Best> best;
   // Any triangle within h of p has its centroid within h + reach of p.
-  for (int e : tree_->centroids->within(p, h + tree_->reach)) {
-    const auto [pi, ti] = tree_->owner[e];
-    const Patch& patch = (*patches_)[pi];
-    const Tri& tri = patch.triangles[ti];
-    const Vec3& a = patch.positions[tri[0]];
-    const Vec3& b = patch.positions[tri[1]];
-    const Vec3& c = patch.positions[tri[2]];
-    const Vec3 tn = (b - a).cross(c - a);
-    const double tn2 = tn.squaredNorm();
-    if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) continue;  // degenerate, other side of a sheet, or a fold
-    const double off = tn.dot(p - a) / tn2;
-    const Vec3 qp = p - tn * off;                    // onto the triangle's plane
-    const double dist2 = off * off * tn2;
-    if (dist2 > h * h) continue;
-    const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
-    const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
-    const double den = d00 * d11 - d01 * d01;
-    if (!(den > 0.0)) continue;
-    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den, u = 1.0 - v - w;
-    const double eps = -1e-9;
-    if (u < eps || v < eps || w < eps) continue;
-    auto slot = std::find_if(best.begin(), best.end(), [&](const Best& x) { return x.patch == pi; });
-    if (slot == best.end()) best.push_back({pi, ti, dist2, Vec3(u, v, w)});
-    else if (dist2 < slot->dist2 || (dist2 == slot->dist2 && ti < slot->tri)) *slot = {pi, ti, dist2, Vec3(u, v, w)};
+  for (const Tree::Level& level : tree_->levels) {
+    if (!level.index) continue;
+    for (int e : level.index->within(p, h + level.reach)) {
+      const auto [pi, ti] = level.owner[e];
+      const Patch& patch = (*patches_)[pi];
+      const Tri& tri = patch.triangles[ti];
+      const Vec3& a = patch.positions[tri[0]];
+      const Vec3& b = patch.positions[tri[1]];
+      const Vec3& c = patch.positions[tri[2]];
+      const Vec3 tn = (b - a).cross(c - a);
+      const double tn2 = tn.squaredNorm();
+      if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) continue;  // degenerate, other side of a sheet, or a fold
+      const double off = tn.dot(p - a) / tn2;
+      const Vec3 qp = p - tn * off;  // onto the triangle's plane
+      const double dist2 = off * off * tn2;
+      if (dist2 > h * h) continue;
+      const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
+      const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+      const double den = d00 * d11 - d01 * d01;
+      if (!(den > 0.0)) continue;
+      const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den, u = 1.0 - v - w;
+      const double eps = -1e-9;
+      if (u < eps || v < eps || w < eps) continue;
+      auto slot = std::find_if(best.begin(), best.end(), [&](const Best& x) { return x.patch == pi; });
+      if (slot == best.end())
+        best.push_back({pi, ti, dist2, Vec3(u, v, w)});
+      else if (dist2 < slot->dist2 || (dist2 == slot->dist2 && ti < slot->tri))
+        *slot = {pi, ti, dist2, Vec3(u, v, w)};
+    }
   }
   std::sort(best.begin(), best.end(), [](const Best& x, const Best& y) { return x.patch < y.patch; });
   for (const Best& b : best) {

@@ -117,7 +117,7 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
   // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
   // a tile, each patch a different part of it (its random anchor).
   synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;
-  synth.projection_tolerance = 0.25 * resolved.max_projection;
+  synth.projection_tolerance = resolved.max_projection;  // as the tracker's coverage test
   synth.aov = !so.aov.empty();
   const SynthesisResult result = synthesize(surface, atlas, map, patches, exemplar, synth);
   const double synth_seconds = seconds_since(t0);
