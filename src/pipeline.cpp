@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <optional>
 
+#include <oneapi/tbb/parallel_pipeline.h>
+
+#include "fluidtex/atomic_file.h"
 #include "fluidtex/debug_views.h"
 #include "fluidtex/error.h"
 #include "fluidtex/frame_pattern.h"
@@ -183,62 +186,106 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
   int previous_frame = summary.resumed_after;
   std::size_t failed = 0;
-  for (std::size_t i = first; i < sequence.size(); ++i) {
-    const int frame = sequence.frames()[i];
-    FrameStats frame_stats;
-    frame_stats.frame = frame;
 
-    reporter.progress(i, sequence.size(), "read");
-    auto t0 = Clock::now();
-    CleanReport cleaned;
-    auto mesh = std::make_shared<const FrameMesh>(sequence.load(i, &cleaned));
-    if (cleaned.changed()) reporter.verbose(sequence.path_of(frame) + ": " + cleaned.summary());
-    frame_stats.vertices = mesh->num_vertices();
-    frame_stats.faces = mesh->num_faces();
-    frame_stats.seconds.emplace_back("read", seconds_since(t0));
-
-    reporter.progress(i, sequence.size(), "track");
-    const double dt = previous_frame == -1 ? 1.0 / options.input.fps
-                                           : static_cast<double>(frame - previous_frame) / options.input.fps;
-    const StepReport step = tracker->step(mesh, frame, dt);
-    previous_frame = frame;
-    for (const auto& [stage, secs] : step.seconds) frame_stats.seconds.emplace_back(stage, secs);
-    frame_stats.patches = step.counts;
-    frame_stats.extra.emplace_back("patches_created", step.created);
-    frame_stats.extra.emplace_back("patches_removed", step.removed);
-    frame_stats.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
-    failed += static_cast<std::size_t>(step.failed);
-    if (i == 0 || (options.output.resume && i == first)) {
-      const TrackingOptions& o = tracker->settings().method;
-      reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " + std::to_string(o.thickness) +
-                       ", max projection mpt " + std::to_string(o.max_projection));
-    }
-
-    t0 = Clock::now();
-    if (options.output.debug_views) {
-      const std::string dir = options.output.dir + "/debug";
-      write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
-      write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
-    }
-    frame_stats.seconds.emplace_back("debug", seconds_since(t0));
-    if (exemplar) {
-      reporter.progress(i, sequence.size(), "synthesis");
-      synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().method, *exemplar, options, frame,
-                       frame_stats);
-    } else {
-      // Track only: coverage measured on the surface (area with Σw = 0).
-      t0 = Clock::now();
-      const PatchLocator locator(tracker->patches(), tracker->settings().method.max_projection);
-      frame_stats.uncovered_fraction = uncovered_area_fraction(*tracker->surface(), locator);
-      frame_stats.seconds.emplace_back("coverage", seconds_since(t0));
-    }
-    // The state goes last: its presence means the frame is complete (--resume).
-    t0 = Clock::now();
-    if (options.output.write_state) tracker->save(state_path(options.output.dir, frame));
-    frame_stats.seconds.emplace_back("state", seconds_since(t0));
-    stats.add(frame_stats);
-    ++summary.frames;
-  }
+  // Frames flow through a TBB pipeline: reading frame t+1, tracking and
+  // synthesis overlap; tracking and the final writes stay in frame order.
+  // At most `tokens` frames are in flight, so memory does not grow with the
+  // sequence. Each frame's synthesis works on its own snapshot (surface and
+  // patches), so its output does not depend on what runs beside it.
+  struct Work {
+    std::size_t index = 0;
+    int frame = 0;
+    std::shared_ptr<const FrameMesh> mesh;
+    FrameStats stats;
+    std::shared_ptr<const SurfaceIndex> surface;
+    std::vector<Patch> patches;
+    TrackingOptions resolved;
+    std::string state;
+  };
+  std::size_t next = first;
+  const std::size_t tokens = 3;
+  tbb::parallel_pipeline(
+      tokens,
+      tbb::make_filter<void, std::shared_ptr<Work>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
+            if (next >= sequence.size()) {
+              fc.stop();
+              return nullptr;
+            }
+            auto work = std::make_shared<Work>();
+            work->index = next++;
+            work->frame = sequence.frames()[work->index];
+            work->stats.frame = work->frame;
+            const auto t0 = Clock::now();
+            CleanReport cleaned;
+            work->mesh = std::make_shared<const FrameMesh>(sequence.load(work->index, &cleaned));
+            if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
+            work->stats.vertices = work->mesh->num_vertices();
+            work->stats.faces = work->mesh->num_faces();
+            work->stats.seconds.emplace_back("read", seconds_since(t0));
+            return work;
+          }) &
+          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::shared_ptr<Work> work) {
+                const int frame = work->frame;
+                reporter.progress(work->index, sequence.size(), "track");
+                const double dt = previous_frame == -1 ? 1.0 / options.input.fps
+                                                       : static_cast<double>(frame - previous_frame) / options.input.fps;
+                const StepReport step = tracker->step(work->mesh, frame, dt);
+                previous_frame = frame;
+                FrameStats& fs = work->stats;
+                for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+                fs.patches = step.counts;
+                fs.extra.emplace_back("patches_created", step.created);
+                fs.extra.emplace_back("patches_removed", step.removed);
+                fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
+                failed += static_cast<std::size_t>(step.failed);
+                if (work->index == first) {
+                  const TrackingOptions& o = tracker->settings().method;
+                  reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " +
+                                   std::to_string(o.thickness) + ", max projection mpt " +
+                                   std::to_string(o.max_projection));
+                }
+                auto t0 = Clock::now();
+                if (options.output.debug_views) {
+                  const std::string dir = options.output.dir + "/debug";
+                  write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
+                  write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
+                  fs.seconds.emplace_back("debug", seconds_since(t0));
+                }
+                work->surface = tracker->shared_surface();
+                work->patches = tracker->patches();
+                work->resolved = tracker->settings().method;
+                if (options.output.write_state) work->state = tracker->serialize();
+                return work;
+              }) &
+          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<Work> work) {
+                if (exemplar) {
+                  synthesize_frame(*work->surface, work->patches, work->resolved, *exemplar, options, work->frame,
+                                   work->stats);
+                } else {
+                  // Track only: coverage measured on the surface (area with Σw = 0).
+                  const auto t0 = Clock::now();
+                  const PatchLocator locator(work->patches, work->resolved.max_projection);
+                  work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, locator);
+                  work->stats.seconds.emplace_back("coverage", seconds_since(t0));
+                }
+                return work;
+              }) &
+          tbb::make_filter<std::shared_ptr<Work>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> work) {
+                // The state goes last: its presence means the frame is complete (--resume).
+                const auto t0 = Clock::now();
+                if (options.output.write_state) write_text_atomically(state_path(options.output.dir, work->frame), work->state);
+                work->stats.seconds.emplace_back("state", seconds_since(t0));
+                stats.add(work->stats);
+                ++summary.frames;
+                reporter.progress(work->index + 1, sequence.size(), "written");
+              }));
   if (failed > 0) {
     reporter.warn(std::to_string(failed) + " new disks got no patch (degenerate selection or failed LSCM solve)");
   }

@@ -53,7 +53,9 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   StepReport report;
   report.frame = frame;
   auto t0 = Clock::now();
-  auto surface = std::make_unique<SurfaceIndex>(*mesh);
+  // The index refers to *mesh; holding the mesh in the deleter keeps it alive
+  // as long as anyone holds the surface.
+  std::shared_ptr<const SurfaceIndex> surface(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
   if (!started_) settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
   const TrackingOptions& o = settings_.method;
   const PoissonParams params = poisson_params(o);

@@ -121,7 +121,9 @@ std::uint64_t mesh_fingerprint(const FrameMesh& mesh) {
   return h;
 }
 
-void Tracker::save(const std::string& path) const {
+void Tracker::save(const std::string& path) const { write_text_atomically(path, serialize()); }
+
+std::string Tracker::serialize() const {
   Writer w;
   for (char c : kMagic) w.put(c);
   w.put(kVersion);
@@ -139,7 +141,7 @@ void Tracker::save(const std::string& path) const {
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
     w.put(p.max_distortion);
   }
-  write_text_atomically(path, w.bytes());
+  return w.bytes();
 }
 
 Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> mesh) {
@@ -190,7 +192,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   if (!r.done()) throw InputError(path, "corrupt state file (trailing bytes)");
   t.frame_ = frame;
   t.started_ = true;
-  t.surface_ = std::make_unique<SurfaceIndex>(*mesh);
+  t.surface_ = std::shared_ptr<const SurfaceIndex>(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
   t.mesh_ = std::move(mesh);
   return t;
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include <oneapi/tbb/global_control.h>
@@ -30,14 +31,21 @@ class TerminalReporter : public Reporter {
         start_(std::chrono::steady_clock::now()) {}
   ~TerminalReporter() override { clear_line(); }
 
+  // Pipeline stages call from several threads.
   void info(const std::string& m) override {
+    std::lock_guard<std::mutex> lock(mutex_);
     if (!quiet_) print(m);
   }
   void verbose(const std::string& m) override {
+    std::lock_guard<std::mutex> lock(mutex_);
     if (!quiet_ && verbosity_ > 0) print(m);
   }
-  void warn(const std::string& m) override { print("warning: " + m); }
+  void warn(const std::string& m) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    print("warning: " + m);
+  }
   void progress(std::size_t done, std::size_t total, const std::string& stage) override {
+    std::lock_guard<std::mutex> lock(mutex_);
     if (quiet_ || !tty_ || total == 0) return;
     const auto now = std::chrono::steady_clock::now();
     if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
@@ -68,6 +76,7 @@ class TerminalReporter : public Reporter {
     clear_line();
     std::fprintf(stderr, "%s\n", m.c_str());
   }
+  std::mutex mutex_;
   int verbosity_;
   bool quiet_;
   bool tty_;

@@ -69,6 +69,9 @@ class Tracker {
   /// The parameters in use; lengths are resolved after the first step.
   const TrackerSettings& settings() const { return settings_; }
   const SurfaceIndex* surface() const { return surface_.get(); }
+  /// The current surface, shared: it stays valid after later steps (the
+  /// pipeline synthesises frame t while the tracker moves on to t + 1).
+  std::shared_ptr<const SurfaceIndex> shared_surface() const { return surface_; }
   std::shared_ptr<const FrameMesh> mesh() const { return mesh_; }
   int frame() const { return frame_; }
   bool started() const { return started_; }
@@ -77,6 +80,8 @@ class Tracker {
   /// later process can resume tracking or synthesise this frame. The surface
   /// is not stored: resuming re-reads the frame's mesh and checks it matches.
   void save(const std::string& path) const;
+  /// The bytes save() writes.
+  std::string serialize() const;
   /// Restores a saved state onto `mesh` (the same frame's mesh, read again);
   /// InputError when the file is not a valid state or does not match `mesh`.
   static Tracker load(const std::string& path, std::shared_ptr<const FrameMesh> mesh);
@@ -85,7 +90,7 @@ class Tracker {
   TrackerSettings settings_;
   std::vector<Patch> patches_;
   std::shared_ptr<const FrameMesh> mesh_;
-  std::unique_ptr<SurfaceIndex> surface_;
+  std::shared_ptr<const SurfaceIndex> surface_;  // refers to *mesh_
   std::uint32_t next_id_ = 0;
   int frame_ = 0;
   bool started_ = false;
