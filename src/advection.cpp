@@ -136,7 +136,8 @@ void update_weights(Patch& patch, const TrackingOptions& options) {
   for (std::size_t v = 0; v < nv; ++v) {
     const double r = patch.uvs[v].norm();  // p_uv is the origin
     const double radial = std::max(0.0, 1.0 - r / d_uv) + kCoverageTail * std::max(0.0, 1.0 - r / reach);
-    const double ks = radial * options.uv_scale * (patch.border[v] ? 0.0 : 1.0) * patch.quality[v];  // Eq. 4
+    const double quality = std::max<double>(patch.quality[v], kCoverageTail);
+    const double ks = radial * options.uv_scale * (patch.border[v] ? 0.0 : 1.0) * quality;  // Eq. 4
     patch.weight[v] = static_cast<float>(ks * patch.kt);                                              // Eq. 2
   }
 }

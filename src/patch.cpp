@@ -18,11 +18,17 @@ void update_border(Patch& patch, const SurfaceIndex& surface) {
   }
   std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   patch.border.assign(patch.positions.size(), 0);
+  // Rim points that moved a hair inside (along a curved rim drawn with
+  // chords) still count as on the rim.
+  double rest_edges = 0.0;
+  for (const RestTriangle& r : patch.rest) rest_edges += (r[1] - r[0]).norm();
+  const double rim_tolerance = patch.rest.empty() ? 0.0 : 0.05 * rest_edges / static_cast<double>(patch.rest.size());
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
     const int a = edges[i].a, b = edges[i].b;
-    const bool rim = surface.on_boundary(patch.projections[a]) && surface.on_boundary(patch.projections[b]);
+    const bool rim = surface.on_boundary(patch.projections[a], rim_tolerance) &&
+                     surface.on_boundary(patch.projections[b], rim_tolerance);
     if (j - i == 1 && !rim) patch.border[a] = patch.border[b] = 1;
     i = j;
   }

@@ -10,6 +10,37 @@
 
 namespace fluidtex {
 
+bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
+                               Vec3& bary, double& dist2) {
+  const Vec3& a = patch.positions[t[0]];
+  const Vec3& b = patch.positions[t[1]];
+  const Vec3& c = patch.positions[t[2]];
+  const Vec3 tn = (b - a).cross(c - a);
+  const double tn2 = tn.squaredNorm();
+  if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) return false;  // degenerate, other side of a sheet, or a fold
+  const double off = tn.dot(q - a) / tn2;
+  if (off * off * tn2 > tolerance * tolerance) return false;
+  const Vec3 qp = q - tn * off;  // onto the triangle's plane
+  const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(den > 0.0)) return false;
+  const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den, l0 = 1.0 - l1 - l2;
+  if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9) {
+    bary = Vec3(l0, l1, l2).cwiseMax(0.0);
+    bary /= bary.sum();
+    dist2 = (qp - q).squaredNorm();
+    return true;
+  }
+  // Just outside: the closest point of the triangle, within the slack.
+  bary = barycentric(qp, a, b, c);  // clamped to the triangle
+  const Vec3 closest = bary[0] * a + bary[1] * b + bary[2] * c;
+  const double slack = 0.1 * tolerance;
+  if ((closest - qp).squaredNorm() > slack * slack) return false;
+  dist2 = (closest - q).squaredNorm();
+  return true;
+}
+
 // Triangles are kept in levels by size: level k holds the triangles whose
 // centroid-to-corner reach is at most base·2^k, in a k-d tree over their
 // centroids queried with radius tolerance + base·2^k. A few stretched
@@ -78,30 +109,14 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
     if (!level.index) continue;
     for (int e : level.index->within(p, h + level.reach)) {
       const auto [pi, ti] = level.owner[e];
-      const Patch& patch = (*patches_)[pi];
-      const Tri& tri = patch.triangles[ti];
-      const Vec3& a = patch.positions[tri[0]];
-      const Vec3& b = patch.positions[tri[1]];
-      const Vec3& c = patch.positions[tri[2]];
-      const Vec3 tn = (b - a).cross(c - a);
-      const double tn2 = tn.squaredNorm();
-      if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) continue;  // degenerate, other side of a sheet, or a fold
-      const double off = tn.dot(p - a) / tn2;
-      const Vec3 qp = p - tn * off;  // onto the triangle's plane
-      const double dist2 = off * off * tn2;
-      if (dist2 > h * h) continue;
-      const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
-      const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
-      const double den = d00 * d11 - d01 * d01;
-      if (!(den > 0.0)) continue;
-      const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den, u = 1.0 - v - w;
-      const double eps = -1e-9;
-      if (u < eps || v < eps || w < eps) continue;
+      Vec3 bary;
+      double dist2;
+      if (!project_to_patch_triangle((*patches_)[pi], (*patches_)[pi].triangles[ti], p, n, h, bary, dist2)) continue;
       auto slot = std::find_if(best.begin(), best.end(), [&](const Best& x) { return x.patch == pi; });
       if (slot == best.end())
-        best.push_back({pi, ti, dist2, Vec3(u, v, w)});
+        best.push_back({pi, ti, dist2, bary});
       else if (dist2 < slot->dist2 || (dist2 == slot->dist2 && ti < slot->tri))
-        *slot = {pi, ti, dist2, Vec3(u, v, w)};
+        *slot = {pi, ti, dist2, bary};
     }
   }
   std::sort(best.begin(), best.end(), [](const Best& x, const Best& y) { return x.patch < y.patch; });

@@ -135,7 +135,7 @@ SurfacePoint SurfaceIndex::closest_point(const Vec3& p) const {
   return s;
 }
 
-bool SurfaceIndex::on_boundary(const SurfacePoint& s) const {
+bool SurfaceIndex::on_boundary(const SurfacePoint& s, double tolerance) const {
   constexpr double eps = 1e-9;
   const Tri& t = mesh_->triangles[s.face];
   for (int k = 0; k < 3; ++k) {
@@ -143,6 +143,18 @@ bool SurfaceIndex::on_boundary(const SurfacePoint& s) const {
     // corner's coordinate vanishes.
     if (neighbors_[s.face][k] < 0 && s.bary[(k + 2) % 3] < eps) return true;
     if (s.bary[k] > 1.0 - eps && vertex_boundary_[t[k]]) return true;
+  }
+  if (!(tolerance > 0.0)) return false;
+  const double tol2 = tolerance * tolerance;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& a = mesh_->positions[t[k]];
+    if (vertex_boundary_[t[k]] && (s.position - a).squaredNorm() <= tol2) return true;
+    if (neighbors_[s.face][k] >= 0) continue;
+    const Vec3& b = mesh_->positions[t[(k + 1) % 3]];
+    const Vec3 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double u = len2 > 0.0 ? std::clamp((s.position - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    if ((s.position - (a + u * ab)).squaredNorm() <= tol2) return true;
   }
   return false;
 }

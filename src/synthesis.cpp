@@ -77,34 +77,6 @@ struct Contributor {
   }
 };
 
-/// Exact contribution of patch triangle (patch, tri) to a surface point q
-/// with normal n (projection onto the triangle's plane, inside test).
-bool project_on_triangle(const Patch& p, const Tri& t, const Vec3& q, const Vec3& n, double tolerance, Vec2& uv,
-                         double& w) {
-  const Vec3& a = p.positions[t[0]];
-  const Vec3& b = p.positions[t[1]];
-  const Vec3& c = p.positions[t[2]];
-  const Vec3 tn = (b - a).cross(c - a);
-  const double tn2 = tn.squaredNorm();
-  if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) return false;
-  const double dist = tn.dot(q - a) / std::sqrt(tn2);
-  if (std::abs(dist) > tolerance) return false;
-  const Vec3 qp = q - tn * (tn.dot(q - a) / tn2);
-  const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double den = d00 * d11 - d01 * d01;
-  if (!(den > 0.0)) return false;
-  const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den, l0 = 1.0 - l1 - l2;
-  if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) return false;
-  uv = l0 * p.uvs[t[0]] + l1 * p.uvs[t[1]] + l2 * p.uvs[t[2]];
-  w = l0 * p.weight[t[0]] + l1 * p.weight[t[1]] + l2 * p.weight[t[2]];
-  return true;
-}
-
-Vec3 texel_point(const SurfaceIndex& surface, const TexelMap& map, std::size_t i) {
-  return surface.at(map.face[i], map.bary[i]).position;
-}
-
 }  // namespace
 
 TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
@@ -221,9 +193,33 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     };
     std::vector<std::vector<TexelRef>> texel_lists;
     std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
+    std::vector<std::uint8_t> tri_rim;          // bit k: edge k (corners k, k+1) is on the patch's boundary
     std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
     for (std::size_t p = 0; p < patches.size(); ++p) tri_px_base[p + 1] = tri_px_base[p] + patches[p].triangles.size();
     tri_px.resize(tri_px_base.back());
+    tri_rim.assign(tri_px_base.back(), 0);
+    // Texels just outside a patch's boundary edge still take it (the same
+    // in-plane slack as the exact projection): the corners of a polygonal
+    // rim between two patch border points would be holes otherwise.
+    const double slack_px = 0.1 * tolerance * atlas.texels_per_unit;
+    const int pad = static_cast<int>(std::ceil(slack_px));
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+      std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·tri + k)
+      const Patch& patch = patches[p];
+      for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+          const auto a = static_cast<std::uint32_t>(patch.triangles[t][k]);
+          const auto b = static_cast<std::uint32_t>(patch.triangles[t][(k + 1) % 3]);
+          edges.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k);
+        }
+      }
+      std::sort(edges.begin(), edges.end());
+      for (std::size_t e = 0; e < edges.size(); ++e) {
+        const bool alone = (e == 0 || edges[e - 1].first != edges[e].first) &&
+                           (e + 1 == edges.size() || edges[e + 1].first != edges[e].first);
+        if (alone) tri_rim[tri_px_base[p] + edges[e].second / 3] |= static_cast<std::uint8_t>(1u << (edges[e].second % 3));
+      }
+    }
     auto push_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
       x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
       x1 = std::min(tiles - 1, x1 / kTile), y1 = std::min(tiles - 1, y1 / kTile);
@@ -248,9 +244,9 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
             px[k] = s.bary[0] * corner[0] + s.bary[1] * corner[1] + s.bary[2] * corner[2];
           }
           const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-          push_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)),
-                   static_cast<int>(std::floor(lo.y() - 0.5)), static_cast<int>(std::ceil(hi.x())),
-                   static_cast<int>(std::ceil(hi.y())));
+          push_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad,
+                   static_cast<int>(std::floor(lo.y() - 0.5)) - pad, static_cast<int>(std::ceil(hi.x())) + pad,
+                   static_cast<int>(std::ceil(hi.y())) + pad);
         } else {
           ++result.exact_triangles;
           Vec3 lo = patch.positions[tri[0]], hi = lo;
@@ -287,16 +283,30 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           const auto& px = tri_px[tri_px_base[job.patch] + job.tri];
           const int chart = atlas.face_chart[patch.projections[tri[0]].face];
           const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-          const int x0 = std::max(tx0, static_cast<int>(std::floor(lo.x() - 0.5)));
-          const int x1 = std::min(tx1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
-          const int y0 = std::max(ty0, static_cast<int>(std::floor(lo.y() - 0.5)));
-          const int y1 = std::min(ty1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
+          const std::uint8_t rim = tri_rim[tri_px_base[job.patch] + job.tri];
+          const int x0 = std::max(tx0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad);
+          const int x1 = std::min(tx1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad);
+          const int y0 = std::max(ty0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad);
+          const int y1 = std::min(ty1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad);
           for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
               const std::size_t i = static_cast<std::size_t>(y) * n + x;
               if (map.face[i] < 0 || atlas.face_chart[map.face[i]] != chart) continue;
               Vec3 l;
-              if (!bary2(Vec2(x + 0.5, y + 0.5), px[0], px[1], px[2], l) || l.minCoeff() < -1e-9) continue;
+              const Vec2 centre(x + 0.5, y + 0.5);
+              if (!bary2(centre, px[0], px[1], px[2], l)) continue;
+              if (l.minCoeff() < -1e-9) {
+                // Outside: only across the patch's own boundary edges, within the slack.
+                bool across_rim = rim != 0;
+                for (int j = 0; j < 3; ++j) {
+                  if (l[j] < -1e-9 && !(rim & (1u << ((j + 1) % 3)))) across_rim = false;
+                }
+                if (!across_rim) continue;
+                const auto lift = [](const Vec2& v) { return Vec3(v.x(), v.y(), 0.0); };
+                l = barycentric(lift(centre), lift(px[0]), lift(px[1]), lift(px[2]));
+                const Vec2 closest = l[0] * px[0] + l[1] * px[1] + l[2] * px[2];
+                if ((closest - centre).norm() > slack_px) continue;
+              }
               const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
               const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
               contribute.add(acc, i, job.patch, uv, w);
@@ -308,9 +318,11 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                                      [](const TexelRef& r, int t) { return r.tile < t; });
           for (; it != refs.end() && it->tile == static_cast<int>(tile); ++it) {
             const SurfacePoint s = surface.at(it->face, map.bary[it->texel]);
-            Vec2 uv;
-            double w;
-            if (project_on_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, uv, w)) {
+            Vec3 l;
+            double dist2;
+            if (project_to_patch_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, l, dist2)) {
+              const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+              const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
               contribute.add(acc, it->texel, job.patch, uv, w);
             }
           }

@@ -70,6 +70,9 @@ constexpr double kCoverageTail = 0.01;
 /// colour). With the tail, they show the texture of the patches around them,
 /// and since Eq. 7 normalises by sqrt(Σw²) the tail is invisible wherever a
 /// patch covers the point with its normal weight (it changes R' by < 1e-4).
+/// For the same reason Q_V enters K_S floored at kCoverageTail: where every
+/// patch is distorted (Q_V = 0, already fading out and being replaced), the
+/// surface shows their texture rather than a flat hole.
 void update_weights(Patch& patch, const TrackingOptions& options);
 
 }  // namespace fluidtex

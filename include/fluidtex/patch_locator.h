@@ -19,6 +19,16 @@ struct PatchHit {
   double weight = 0.0;   ///< barycentric blend of the vertex weights w_V
 };
 
+/// Projects the surface point `q` (unit normal `n`) onto triangle `t` of
+/// `patch`: it covers q when it faces the same side (a triangle facing away is
+/// the other side of a thin sheet, or a fold), lies within `tolerance` of q
+/// along its normal, and contains q's projection up to an in-plane slack of
+/// tolerance/10 (so the corners of a polygonal rim between two patch border
+/// points still count). On success, `bary` holds the (clamped) barycentric
+/// coordinates and `dist2` the squared distance to q.
+bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
+                               Vec3& bary, double& dist2);
+
 class PatchLocator {
  public:
   /// `tolerance`: how far (scene units) a patch triangle may lie from the

@@ -62,8 +62,9 @@ class SurfaceIndex {
   const std::vector<char>& vertex_on_boundary() const { return vertex_boundary_; }
   /// True when `s` lies on an open boundary of the surface (on a boundary edge
   /// or at a boundary vertex), as a closest-point query beyond the rim of an
-  /// open surface does.
-  bool on_boundary(const SurfacePoint& s) const;
+  /// open surface does, or within `tolerance` of one (edges and vertices of
+  /// its own triangle).
+  bool on_boundary(const SurfacePoint& s, double tolerance = 0.0) const;
   int num_components() const { return num_components_; }
   const std::vector<double>& component_area() const { return component_area_; }
 
