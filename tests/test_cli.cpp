@@ -139,6 +139,10 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
   EXPECT_NE(stats.find("\"frame\":1,"), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"patches\":{\"fading_in\":"), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"uncovered_fraction\":0,"), std::string::npos) << stats;
+  // The preview renders the finished frames.
+  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --frames 2-3 --width 64", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(o / "preview" / "frame.0002.png"));
+  EXPECT_TRUE(fs::exists(o / "preview" / "frame.0003.png"));
   // No temporary file is left anywhere.
   for (const auto& e : fs::recursive_directory_iterator(o)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();

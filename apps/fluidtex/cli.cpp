@@ -16,6 +16,7 @@
 #include "fluidtex/image_io.h"
 #include "fluidtex/info.h"
 #include "fluidtex/pipeline.h"
+#include "fluidtex/render.h"
 #include "fluidtex/scenes.h"
 
 namespace fluidtex::cli {
@@ -285,7 +286,43 @@ void add_gen(CLI::App& app, int& exit_code) {
 
 }  // namespace
 
+void add_preview(CLI::App& app, int& exit_code) {
+  struct PreviewArgs {
+    std::string dir, frames, view = "top", mesh, atlas;
+    RenderOptions render;
+  };
+  auto args = std::make_shared<PreviewArgs>();
+  CLI::App* preview = app.add_subcommand("preview", "Render a finished run's textured frames to PNG (OUT/preview/)");
+  preview->add_option("run", args->dir, "The output folder of a fluidtex run")->required();
+  preview->add_option("--frames", args->frames, "Frames to render, e.g. 1-48x8 (default: all)");
+  preview->add_option("--view", args->view, "Orthographic view along an axis: top, front, side")
+      ->check(CLI::IsMember({"top", "front", "side"}))
+      ->capture_default_str();
+  preview->add_option("--width", args->render.width, "Image width in pixels")->capture_default_str();
+  preview->add_option("--mesh", args->mesh, "UV mesh pattern (default: RUN/mesh.####.obj)");
+  preview->add_option("--atlas", args->atlas, "Atlas pattern (default: RUN/atlas.####.exr)");
+  preview->callback([args, &exit_code]() {
+    args->render.view = view_from_string(args->view);
+    InputOptions in;
+    in.pattern = args->mesh.empty() ? args->dir + "/mesh.####.obj" : args->mesh;
+    in.frames = args->frames;
+    const FramePattern meshes(in.pattern);
+    const FramePattern atlases(args->atlas.empty() ? args->dir + "/atlas.####.exr" : args->atlas);
+    const std::vector<int> frames = in.frames.empty() ? meshes.discover() : parse_frame_range(in.frames);
+    if (frames.empty()) throw InputError(in.pattern, "no frame matches this pattern");
+    const FramePattern out(args->dir + "/preview/frame.####.png");
+    for (int f : frames) {
+      const UVMesh mesh = read_uv_mesh_obj(meshes.path(f));
+      const Image atlas = read_image(atlases.path(f));
+      write_image(out.path(f), render_textured(mesh, atlas, args->render));
+    }
+    std::cout << "wrote " << frames.size() << " previews: " << out.pattern() << "\n";
+    exit_code = 0;
+  });
+}
+
 void add_subcommands(CLI::App& app, int& exit_code) {
+  add_preview(app, exit_code);
   add_run(app, exit_code);
   add_info(app, exit_code);
   add_gen(app, exit_code);
