@@ -34,18 +34,7 @@ struct FlatChart {
 /// that its bounding rectangle is tight. A single face, or a chart LSCM
 /// cannot handle, is laid flat face by face (the caller splits it).
 bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatChart& out, double& max_stretch) {
-  DiskMesh disk;
-  std::unordered_map<int, int> local;
-  for (int f : faces) {
-    Tri t;
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.triangles[f][k];
-      auto [it, inserted] = local.emplace(v, static_cast<int>(disk.positions.size()));
-      if (inserted) disk.positions.push_back(mesh.positions[v]);
-      t[k] = it->second;
-    }
-    disk.triangles.push_back(t);
-  }
+  const DiskMesh disk = extract_faces(mesh, faces);
   std::vector<Vec2> uv;
   if (!flatten_lscm(disk, uv)) return false;
   // Principal axes of the uv points.

@@ -30,6 +30,22 @@ bool to_surface_mesh(const DiskMesh& mesh, SM& sm) {
 
 }  // namespace
 
+DiskMesh extract_faces(const FrameMesh& mesh, const std::vector<int>& faces) {
+  DiskMesh out;
+  std::unordered_map<int, int> local;
+  for (int f : faces) {
+    Tri t;
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles[f][k];
+      auto [it, inserted] = local.emplace(v, static_cast<int>(out.positions.size()));
+      if (inserted) out.positions.push_back(mesh.positions[v]);
+      t[k] = it->second;
+    }
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
 bool flatten_lscm(const DiskMesh& mesh, std::vector<Vec2>& uvs, std::string* failure) {
   auto fail = [&](const char* why) {
     if (failure) *failure = why;

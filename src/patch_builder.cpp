@@ -71,26 +71,11 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     if (failure) *failure = why;
     return std::nullopt;
   };
-  const FrameMesh& mesh = surface.mesh();
   const std::vector<int> faces = select_patch_faces(
       surface, center, (1.0 + options.selection_margin) * options.radius, options.patch_vertex_angle);
   if (faces.empty()) return fail("empty selection");
 
-  // Copy of the selection (a topological disk).
-  DiskMesh copy;
-  {
-    std::unordered_map<int, int> local;
-    for (int f : faces) {
-      Tri t;
-      for (int k = 0; k < 3; ++k) {
-        const int v = mesh.triangles[f][k];
-        auto [it, inserted] = local.emplace(v, static_cast<int>(copy.positions.size()));
-        if (inserted) copy.positions.push_back(mesh.positions[v]);
-        t[k] = it->second;
-      }
-      copy.triangles.push_back(t);
-    }
-  }
+  DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk
   // Departure from the paper, which keeps the simulation's own triangles:
   // the copy is remeshed to well-shaped triangles of a set size (vertices
   // stay on the surface). Reconstructed surfaces are full of slivers whose

@@ -18,6 +18,10 @@ struct DiskMesh {
   std::vector<Tri> triangles;
 };
 
+/// The faces `faces` of `mesh` as a compact DiskMesh (vertices renumbered in
+/// order of first use).
+DiskMesh extract_faces(const FrameMesh& mesh, const std::vector<int>& faces);
+
 /// LSCM of a topological disk, made metric: uv area equals 3D area and the
 /// orientation is kept (counter-clockwise triangles stay counter-clockwise).
 /// CGAL pins two border vertices at arbitrary positions, so the raw result is
