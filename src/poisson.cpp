@@ -83,10 +83,10 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
     if (sparse[surface.face_component()[f]]) {
       keyed.push_back({key(f, ~0ULL), sample_at(surface, static_cast<int>(f), Vec3::Constant(1.0 / 3.0))});
     }
-    // Every vertex too: they reach the corners and rims random points miss.
+    // Rim vertices too: they reach the corners and rims random points miss.
     for (int c = 0; c < 3; ++c) {
       const int v = mesh.triangles[f][c];
-      if (vertex_done[v]) continue;
+      if (vertex_done[v] || !(surface.vertex_on_boundary()[v] || sparse[surface.face_component()[f]])) continue;
       vertex_done[v] = 1;
       Vec3 bary = Vec3::Zero();
       bary[c] = 1.0;

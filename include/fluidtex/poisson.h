@@ -49,9 +49,9 @@ struct SurfaceSample {
 };
 
 /// Candidate points, in visiting order: about `per_disk` random points per
-/// disk area π r² spread by triangle area, every mesh vertex (they reach
-/// rims and corners), and every triangle's centroid on components too small
-/// to receive random points (thin splashes, droplets). The random streams are
+/// disk area π r² spread by triangle area, every vertex on an open boundary
+/// (they reach rims and corners), and every vertex and triangle centroid of
+/// components too small to receive random points (thin splashes, droplets). The random streams are
 /// keyed by face index, so an unchanged surface gives the same candidates.
 std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius,
                                               std::uint64_t seed, double per_disk = 32.0);
