@@ -251,7 +251,11 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           ++result.exact_triangles;
           Vec3 lo = patch.positions[tri[0]], hi = lo;
           for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
-          std::vector<int> faces = surface.faces_in_box(lo - Vec3::Constant(tolerance), hi + Vec3::Constant(tolerance));
+          // Surface triangles under the patch triangle: its box grown by the
+          // in-plane slack and the chord's sagitta (a quarter of the normal
+          // tolerance); the normal tolerance itself is applied per texel.
+          const Vec3 grow = Vec3::Constant(0.25 * tolerance);
+          std::vector<int> faces = surface.faces_in_box(lo - grow, hi + grow);
           std::vector<TexelRef> refs;
           for (int f : faces) {
             for (std::uint32_t k = map.face_start[f]; k < map.face_start[f + 1]; ++k) {
