@@ -12,6 +12,8 @@
 #include "fluidtex/fading.h"
 #include "fluidtex/patch_builder.h"
 #include "fluidtex/poisson.h"
+#include "fluidtex/patch_locator.h"
+#include "fluidtex/scenes.h"
 #include "fluidtex/tracker.h"
 #include "mesh_fixtures.h"
 #include "test_util.h"
@@ -356,6 +358,41 @@ TEST(Tracker, RotationGoesThroughTheStates) {
   EXPECT_TRUE(saw_fading_in);
   EXPECT_TRUE(saw_close || saw_distorted);
   EXPECT_GT(removed, 0);
+}
+
+TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
+  // The rotation keeps its patches; the drop, through its contact (frame ~6
+  // of 12), replaces some: patches fade in, fade out and are removed, and
+  // K_t follows Eq. 6.
+  SceneOptions so;
+  so.resolution = 20;
+  so.frames = 12;
+  for (const char* scene : {"rotation", "drop"}) {
+    SCOPED_TRACE(scene);
+    Tracker t(TrackerSettings{});
+    int created_later = 0, removed = 0, fading_out = 0;
+    for (int f = 1; f <= so.frames; ++f) {
+      const StepReport r = t.step(std::make_shared<FrameMesh>(make_scene_frame(scene, f, so)), f, 1.0 / so.fps);
+      if (f > 1) created_later += r.created;
+      removed += r.removed;
+      fading_out += r.counts.fading_out_distorted + r.counts.fading_out_close;
+      for (const Patch& p : t.patches()) {
+        ASSERT_GE(p.kt, 0.0);
+        ASSERT_LE(p.kt, 1.0);
+        if (p.state == DiskState::Active) ASSERT_EQ(p.kt, 1.0);
+        if (p.state == DiskState::FadingIn) ASSERT_LT(p.kt, 1.0);
+      }
+      const PatchLocator locator(t.patches(), t.settings().method.max_projection);
+      EXPECT_LT(uncovered_area_fraction(*t.surface(), locator), 1e-3) << "frame " << f;
+    }
+    if (std::string(scene) == "rotation") {
+      EXPECT_EQ(removed, 0);
+    } else {
+      EXPECT_GT(created_later, 0);
+      EXPECT_GT(fading_out, 0);
+      EXPECT_GT(removed, 0);
+    }
+  }
 }
 
 std::string run_and_save(int threads, const std::string& path) {
