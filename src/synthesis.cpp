@@ -203,9 +203,19 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     // rim between two patch border points would be holes otherwise.
     const double slack_px = 0.1 * tolerance * atlas.texels_per_unit;
     const int pad = static_cast<int>(std::ceil(slack_px));
-    for (std::size_t p = 0; p < patches.size(); ++p) {
-      std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·tri + k)
+    // Per patch, in parallel: its boundary edges and where its triangles go
+    // (tile, job). Then merged in patch order, so every tile's list is in
+    // patch order whatever the thread count.
+    struct Bins {
+      std::vector<std::pair<int, Job>> placed;     // (tile, job); job.texels indexes `lists`
+      std::vector<std::vector<TexelRef>> lists;
+      std::size_t exact = 0;
+    };
+    std::vector<Bins> bins(patches.size());
+    tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
       const Patch& patch = patches[p];
+      Bins& out = bins[p];
+      std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·tri + k)
       for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
         for (int k = 0; k < 3; ++k) {
           const auto a = static_cast<std::uint32_t>(patch.triangles[t][k]);
@@ -219,17 +229,14 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                            (e + 1 == edges.size() || edges[e + 1].first != edges[e].first);
         if (alone) tri_rim[tri_px_base[p] + edges[e].second / 3] |= static_cast<std::uint8_t>(1u << (edges[e].second % 3));
       }
-    }
-    auto push_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
-      x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
-      x1 = std::min(tiles - 1, x1 / kTile), y1 = std::min(tiles - 1, y1 / kTile);
-      for (int ty = y0; ty <= y1; ++ty) {
-        for (int tx = x0; tx <= x1; ++tx) jobs[static_cast<std::size_t>(ty) * tiles + tx].push_back(job);
-      }
-    };
-    for (std::size_t p = 0; p < patches.size(); ++p) {
-      const Patch& patch = patches[p];
-      if (!(patch.kt > 0.0)) continue;
+      if (!(patch.kt > 0.0)) return;
+      auto place_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
+        x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
+        x1 = std::min(tiles - 1, x1 / kTile), y1 = std::min(tiles - 1, y1 / kTile);
+        for (int ty = y0; ty <= y1; ++ty) {
+          for (int tx = x0; tx <= x1; ++tx) out.placed.emplace_back(ty * tiles + tx, job);
+        }
+      };
       for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
         const Tri& tri = patch.triangles[t];
         if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
@@ -244,20 +251,19 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
             px[k] = s.bary[0] * corner[0] + s.bary[1] * corner[1] + s.bary[2] * corner[2];
           }
           const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-          push_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad,
-                   static_cast<int>(std::floor(lo.y() - 0.5)) - pad, static_cast<int>(std::ceil(hi.x())) + pad,
-                   static_cast<int>(std::ceil(hi.y())) + pad);
+          place_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad,
+                    static_cast<int>(std::floor(lo.y() - 0.5)) - pad, static_cast<int>(std::ceil(hi.x())) + pad,
+                    static_cast<int>(std::ceil(hi.y())) + pad);
         } else {
-          ++result.exact_triangles;
+          ++out.exact;
           Vec3 lo = patch.positions[tri[0]], hi = lo;
           for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
           // Surface triangles under the patch triangle: its box grown by the
           // in-plane slack and the chord's sagitta (a quarter of the normal
           // tolerance); the normal tolerance itself is applied per texel.
           const Vec3 grow = Vec3::Constant(0.25 * tolerance);
-          std::vector<int> faces = surface.faces_in_box(lo - grow, hi + grow);
           std::vector<TexelRef> refs;
-          for (int f : faces) {
+          for (int f : surface.faces_in_box(lo - grow, hi + grow)) {
             for (std::uint32_t k = map.face_start[f]; k < map.face_start[f + 1]; ++k) {
               const std::uint32_t i = map.texels[k];
               const int x = static_cast<int>(i % n), y = static_cast<int>(i / n);
@@ -267,15 +273,24 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           if (refs.empty()) continue;
           std::sort(refs.begin(), refs.end(),
                     [](const TexelRef& a, const TexelRef& b) { return a.tile != b.tile ? a.tile < b.tile : a.texel < b.texel; });
-          std::vector<int> touched;
+          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(out.lists.size())};
+          int last = -1;
           for (const TexelRef& r : refs) {
-            if (touched.empty() || touched.back() != r.tile) touched.push_back(r.tile);
+            if (r.tile != last) out.placed.emplace_back(r.tile, job);
+            last = r.tile;
           }
-          texel_lists.push_back(std::move(refs));
-          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(texel_lists.size() - 1)};
-          for (int tile : touched) jobs[tile].push_back(job);
+          out.lists.push_back(std::move(refs));
         }
       }
+    });
+    for (Bins& b : bins) {
+      const int offset = static_cast<int>(texel_lists.size());
+      for (auto& list : b.lists) texel_lists.push_back(std::move(list));
+      for (auto [tile, job] : b.placed) {
+        if (job.texels >= 0) job.texels += offset;
+        jobs[tile].push_back(job);
+      }
+      result.exact_triangles += b.exact;
     }
     tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t tile) {
       const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
