@@ -33,7 +33,7 @@ struct FlatChart {
 /// Flattens one chart: LSCM over its faces, then principal-axis rotation so
 /// that its bounding rectangle is tight. A single face, or a chart LSCM
 /// cannot handle, is laid flat face by face (the caller splits it).
-bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatChart& out, double& max_stretch) {
+bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatChart& out, double& stretch) {
   const DiskMesh disk = extract_faces(mesh, faces);
   std::vector<Vec2> uv;
   if (!flatten_lscm(disk, uv)) return false;
@@ -66,7 +66,7 @@ bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatCha
       total += a3;
     }
   }
-  max_stretch = total > 0.0 ? weighted / total : 1.0;
+  stretch = total > 0.0 ? weighted / total : 1.0;  // area-weighted mean
   return true;
 }
 

@@ -15,6 +15,20 @@ using test::run_fluidtex;
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
 
+/// Generates the rotation scene with a gravel exemplar in `dir` and returns
+/// the start of a `run` command line over it (without -o).
+std::string rotation_run(const test::TempDir& dir, int frames, int resolution, int exemplar_size, int atlas_size) {
+  std::string out;
+  EXPECT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames " + std::to_string(frames) +
+                             " --resolution " + std::to_string(resolution) + " --exemplar gravel --exemplar-size " +
+                             std::to_string(exemplar_size),
+                         &out),
+            0)
+      << out;
+  return "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) + " --atlas-size " +
+         std::to_string(atlas_size) + " ";
+}
+
 TEST(Cli, HelpAndVersion) {
   std::string out;
   EXPECT_EQ(run_fluidtex("--help", &out), 0);
@@ -152,10 +166,7 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
 TEST(Cli, ResumeContinuesFromTheLastState) {
   test::TempDir dir;
   std::string out;
-  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 4 --resolution 12 --exemplar gravel "
-                         "--exemplar-size 32", &out), 0);
-  const std::string base = "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
-                           " --atlas-size 64 ";
+  const std::string base = rotation_run(dir, 4, 12, 32, 64);
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("full")), &out), 0) << out;
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --frames 1-2", &out), 0) << out;
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --resume", &out), 0) << out;
@@ -169,10 +180,7 @@ TEST(Cli, ResumeContinuesFromTheLastState) {
 TEST(Cli, SameOutputForOneAndTwoThreads) {
   test::TempDir dir;
   std::string out;
-  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 16 --exemplar gravel "
-                         "--exemplar-size 64", &out), 0);
-  const std::string base = "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
-                           " --atlas-size 128 ";
+  const std::string base = rotation_run(dir, 3, 16, 64, 128);
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t1")) + " --threads 1", &out), 0) << out;
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t2")) + " --threads 2", &out), 0) << out;
   for (const char* f : {"atlas.0003.exr", "mesh.0003.obj", "state/patches.0003.bin"}) {
