@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fluidtex/point_index.h"
 
@@ -131,16 +132,99 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
   }
 }
 
-double uncovered_area_fraction(const SurfaceIndex& surface, const PatchLocator& locator) {
+struct PatchCoverage::Bounds {
+  std::vector<int> patch;               // patch index per centre
+  std::vector<Vec3> centre;
+  std::vector<double> radius;           // farthest vertex + tolerance
+  std::vector<std::size_t> tri_base;    // per entry: first of its triangles in tri_*
+  std::vector<int> tri;                 // triangle index per entry
+  std::vector<Vec3> tri_centre;
+  std::vector<double> tri_reach;        // farthest corner + tolerance
+  double max_radius = 0.0;
+  std::unique_ptr<PointIndex> index;
+};
+
+PatchCoverage::PatchCoverage(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include)
+    : patches_(&patches), tolerance_(tolerance), bounds_(std::make_unique<Bounds>()) {
+  Bounds& B = *bounds_;
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    if ((include && !(*include)[p]) || patches[p].positions.empty()) continue;
+    B.patch.push_back(static_cast<int>(p));
+  }
+  const std::size_t m = B.patch.size();
+  B.centre.resize(m);
+  B.radius.resize(m);
+  std::vector<std::vector<int>> tris(m);
+  std::vector<std::vector<std::pair<Vec3, double>>> spheres(m);
+  tbb::parallel_for(std::size_t(0), m, [&](std::size_t k) {
+    const Patch& patch = patches[B.patch[k]];
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& v : patch.positions) c += v;
+    c /= static_cast<double>(patch.positions.size());
+    double r = 0.0;
+    for (const Vec3& v : patch.positions) r = std::max(r, (v - c).norm());
+    B.centre[k] = c;
+    B.radius[k] = r + tolerance;
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      const Tri& tri = patch.triangles[t];
+      const Vec3 tc = (patch.positions[tri[0]] + patch.positions[tri[1]] + patch.positions[tri[2]]) / 3.0;
+      double reach = 0.0;
+      for (int j = 0; j < 3; ++j) reach = std::max(reach, (patch.positions[tri[j]] - tc).norm());
+      tris[k].push_back(static_cast<int>(t));
+      spheres[k].emplace_back(tc, reach + tolerance);
+    }
+  });
+  B.tri_base.assign(m + 1, 0);
+  for (std::size_t k = 0; k < m; ++k) {
+    B.tri_base[k + 1] = B.tri_base[k] + tris[k].size();
+    B.tri.insert(B.tri.end(), tris[k].begin(), tris[k].end());
+    for (const auto& [c, r] : spheres[k]) {
+      B.tri_centre.push_back(c);
+      B.tri_reach.push_back(r);
+    }
+    B.max_radius = std::max(B.max_radius, B.radius[k]);
+  }
+  B.index = std::make_unique<PointIndex>(B.centre);
+}
+
+PatchCoverage::~PatchCoverage() = default;
+
+bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
+  const Bounds& B = *bounds_;
+  if (B.patch.empty()) return false;
+  std::vector<std::pair<double, int>> near;
+  for (int k : B.index->within(p, B.max_radius)) {
+    const double d2 = (B.centre[k] - p).squaredNorm();
+    if (d2 <= B.radius[k] * B.radius[k]) near.emplace_back(d2, k);
+  }
+  std::sort(near.begin(), near.end());
+  for (const auto& [d2, k] : near) {
+    // As locate(): the patch's nearest triangle (lowest index on a tie) decides.
+    const Patch& patch = (*patches_)[B.patch[k]];
+    double best = std::numeric_limits<double>::infinity();
+    double weight = 0.0;
+    for (std::size_t e = B.tri_base[k]; e < B.tri_base[k + 1]; ++e) {
+      if ((B.tri_centre[e] - p).squaredNorm() > B.tri_reach[e] * B.tri_reach[e]) continue;
+      const Tri& tri = patch.triangles[B.tri[e]];
+      Vec3 bary;
+      double dist2;
+      if (!project_to_patch_triangle(patch, tri, p, n, tolerance_, bary, dist2) || !(dist2 < best)) continue;
+      best = dist2;
+      weight = bary[0] * patch.weight[tri[0]] + bary[1] * patch.weight[tri[1]] + bary[2] * patch.weight[tri[2]];
+    }
+    if (weight > 0.0) return true;
+  }
+  return false;
+}
+
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage) {
   const FrameMesh& mesh = surface.mesh();
   const std::size_t nf = mesh.triangles.size();
   std::vector<char> covered(nf, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<PatchHit> hits;
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
       const SurfacePoint s = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
-      locator.locate(s.position, surface.normal_at(s), hits);
-      for (const PatchHit& h : hits) covered[f] |= h.weight > 0.0;
+      covered[f] = coverage.covers(s.position, surface.normal_at(s));
     }
   });
   double total = 0.0, bare = 0.0;  // summed in face order: deterministic
@@ -155,18 +239,11 @@ double uncovered_area_fraction(const SurfaceIndex& surface, const PatchLocator& 
 
 namespace fluidtex {
 
-std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchLocator& locator) {
+std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage) {
   std::vector<char> bare(samples.size(), 1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<PatchHit> hits;
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      locator.locate(samples[i].point.position, samples[i].normal, hits);
-      for (const PatchHit& h : hits) {
-        if (h.weight > 0.0) {
-          bare[i] = 0;
-          break;
-        }
-      }
+      bare[i] = !coverage.covers(samples[i].point.position, samples[i].normal);
     }
   });
   return bare;

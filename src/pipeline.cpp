@@ -270,8 +270,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
                 } else {
                   // Track only: coverage measured on the surface (area with Σw = 0).
                   const auto t0 = Clock::now();
-                  const PatchLocator locator(work->patches, work->resolved.max_projection);
-                  work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, locator);
+                  const PatchCoverage coverage(work->patches, work->resolved.max_projection);
+                  work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, coverage);
                   work->stats.seconds.emplace_back("coverage", seconds_since(t0));
                 }
                 return work;

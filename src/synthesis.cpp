@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
 
 #include <oneapi/tbb/parallel_for.h>
 
@@ -123,27 +125,57 @@ TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
 
 void dilate(Image& image, std::vector<char>& mask, int rings) {
   const int w = image.width, h = image.height, nc = image.channels;
-  for (int ring = 0; ring < rings; ++ring) {
-    std::vector<char> next = mask;
-    tbb::parallel_for(0, h, [&](int y) {
+  if (w <= 0 || h <= 0 || rings <= 0) return;
+  // Only tiles within `rings` texels of a filled texel can change: list the
+  // tiles (of at least `rings` texels) next to one holding a filled texel.
+  const int tile = std::max(kTile, rings);
+  const int tw = (w + tile - 1) / tile, th = (h + tile - 1) / tile;
+  std::vector<char> filled(static_cast<std::size_t>(tw) * th, 0);
+  tbb::parallel_for(0, th, [&](int ty) {
+    for (int y = ty * tile; y < std::min(h, (ty + 1) * tile); ++y) {
       for (int x = 0; x < w; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * w + x;
-        if (mask[i]) continue;
-        float acc[4] = {0, 0, 0, 0};
-        int k = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = x + dx, yy = y + dy;
-            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-            const std::size_t j = static_cast<std::size_t>(yy) * w + xx;
-            if (!mask[j]) continue;
-            for (int c = 0; c < nc; ++c) acc[c] += image.pixels[j * nc + c];
-            ++k;
-          }
+        if (mask[static_cast<std::size_t>(y) * w + x]) filled[static_cast<std::size_t>(ty) * tw + x / tile] = 1;
+      }
+    }
+  });
+  std::vector<int> active;
+  for (int ty = 0; ty < th; ++ty) {
+    for (int tx = 0; tx < tw; ++tx) {
+      bool near = false;
+      for (int dy = -1; dy <= 1 && !near; ++dy) {
+        for (int dx = -1; dx <= 1 && !near; ++dx) {
+          const int x = tx + dx, y = ty + dy;
+          near = x >= 0 && y >= 0 && x < tw && y < th && filled[static_cast<std::size_t>(y) * tw + x];
         }
-        if (k == 0) continue;
-        for (int c = 0; c < nc; ++c) image.pixels[i * nc + c] = acc[c] / static_cast<float>(k);
-        next[i] = 1;
+      }
+      if (near) active.push_back(ty * tw + tx);
+    }
+  }
+  std::vector<char> next;
+  for (int ring = 0; ring < rings; ++ring) {
+    next = mask;
+    tbb::parallel_for(std::size_t(0), active.size(), [&](std::size_t a) {
+      const int tx = active[a] % tw, ty = active[a] / tw;
+      for (int y = ty * tile; y < std::min(h, (ty + 1) * tile); ++y) {
+        for (int x = tx * tile; x < std::min(w, (tx + 1) * tile); ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * w + x;
+          if (mask[i]) continue;
+          float acc[4] = {0, 0, 0, 0};
+          int k = 0;
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int xx = x + dx, yy = y + dy;
+              if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+              const std::size_t j = static_cast<std::size_t>(yy) * w + xx;
+              if (!mask[j]) continue;
+              for (int c = 0; c < nc; ++c) acc[c] += image.pixels[j * nc + c];
+              ++k;
+            }
+          }
+          if (k == 0) continue;
+          for (int c = 0; c < nc; ++c) image.pixels[i * nc + c] = acc[c] / static_cast<float>(k);
+          next[i] = 1;
+        }
       }
     });
     mask.swap(next);
@@ -157,58 +189,63 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
   const int n = atlas.size;
   const std::size_t texel_count = static_cast<std::size_t>(n) * n;
   const int nc = exemplar.channels();
-  Accumulator acc(texel_count, nc);
+  const int tiles = (n + kTile - 1) / kTile;
+  const std::size_t tile_count = static_cast<std::size_t>(tiles) * tiles;
   const Contributor contribute{patches, exemplar, options, options.uv_scale / options.tile_size};
   const double tolerance = options.projection_tolerance;
   SynthesisResult result;
 
+  // Tiles holding at least one chart texel; the others are skipped.
+  std::vector<char> tile_live(tile_count, 0);
+  tbb::parallel_for(0, tiles, [&](int ty) {
+    for (int y = ty * kTile; y < std::min(n, (ty + 1) * kTile); ++y) {
+      for (int x = 0; x < n; ++x) {
+        if (map.face[static_cast<std::size_t>(y) * n + x] >= 0) tile_live[static_cast<std::size_t>(ty) * tiles + x / kTile] = 1;
+      }
+    }
+  });
+
+  // Raster: every patch triangle binned into the atlas tiles it may touch,
+  // in patch order; each tile then runs its list in that order.
+  struct Job {
+    int patch, tri;
+    int regions;  // −1: raster in one chart; else index into region_lists (exact)
+  };
+  std::vector<std::vector<Job>> jobs;
+  // Exact jobs: per surface face under the patch triangle, the atlas
+  // rectangle (inclusive) outside which none of the face's texels can
+  // project into the patch triangle.
+  struct Region {
+    int face;
+    int x0, y0, x1, y1;
+  };
+  std::vector<std::vector<Region>> region_lists;
+  std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
+  std::vector<std::uint8_t> tri_rim;          // bit k: edge k (corners k, k+1) is on the patch's boundary
+  std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
+  // Texels just outside a patch's boundary edge still take it (the same
+  // in-plane slack as the exact projection): the corners of a polygonal
+  // rim between two patch border points would be holes otherwise.
+  const double slack_px = 0.1 * tolerance * atlas.texels_per_unit;
+  const int pad = static_cast<int>(std::ceil(slack_px));
+  std::unique_ptr<PatchLocator> locator;
+
   if (options.method == SynthesisMethod::Exact) {
     // The reference: every texel projected through the patch triangles near it.
-    const PatchLocator locator(patches, tolerance);
-    tbb::parallel_for(0, n, [&](int y) {
-      std::vector<PatchHit> hits;
-      for (int x = 0; x < n; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * n + x;
-        if (map.face[i] < 0) continue;
-        const SurfacePoint s = surface.at(map.face[i], map.bary[i]);
-        locator.locate(s.position, surface.normal_at(s), hits);
-        for (const PatchHit& h : hits) contribute.add(acc, i, h.patch, h.uv, h.weight);
-      }
-    });
+    locator = std::make_unique<PatchLocator>(patches, tolerance);
   } else {
+    jobs.resize(tile_count);
     // Bin every patch triangle into the atlas tiles it may touch, in patch
     // order; then each tile runs its list in that order.
-    const int tiles = (n + kTile - 1) / kTile;
-    struct Job {
-      int patch, tri;
-      int texels;  // −1: raster in one chart; else index into texel_lists (exact)
-    };
-    std::vector<std::vector<Job>> jobs(static_cast<std::size_t>(tiles) * tiles);
-    // Exact jobs: the texels (with their face) of the surface triangles under
-    // the patch triangle, sorted by tile so that each tile visits only its own.
-    struct TexelRef {
-      int tile;
-      std::uint32_t texel;
-      int face;
-    };
-    std::vector<std::vector<TexelRef>> texel_lists;
-    std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
-    std::vector<std::uint8_t> tri_rim;          // bit k: edge k (corners k, k+1) is on the patch's boundary
-    std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
     for (std::size_t p = 0; p < patches.size(); ++p) tri_px_base[p + 1] = tri_px_base[p] + patches[p].triangles.size();
     tri_px.resize(tri_px_base.back());
     tri_rim.assign(tri_px_base.back(), 0);
-    // Texels just outside a patch's boundary edge still take it (the same
-    // in-plane slack as the exact projection): the corners of a polygonal
-    // rim between two patch border points would be holes otherwise.
-    const double slack_px = 0.1 * tolerance * atlas.texels_per_unit;
-    const int pad = static_cast<int>(std::ceil(slack_px));
     // Per patch, in parallel: its boundary edges and where its triangles go
     // (tile, job). Then merged in patch order, so every tile's list is in
     // patch order whatever the thread count.
     struct Bins {
       std::vector<std::pair<int, Job>> placed;     // (tile, job); job.texels indexes `lists`
-      std::vector<std::vector<TexelRef>> lists;
+      std::vector<std::vector<Region>> lists;
       std::size_t exact = 0;
     };
     std::vector<Bins> bins(patches.size());
@@ -262,43 +299,122 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           // in-plane slack and the chord's sagitta (a quarter of the normal
           // tolerance); the normal tolerance itself is applied per texel.
           const Vec3 grow = Vec3::Constant(0.25 * tolerance);
-          std::vector<TexelRef> refs;
-          for (int f : surface.faces_in_box(lo - grow, hi + grow)) {
-            for (std::uint32_t k = map.face_start[f]; k < map.face_start[f + 1]; ++k) {
-              const std::uint32_t i = map.texels[k];
-              const int x = static_cast<int>(i % n), y = static_cast<int>(i / n);
-              refs.push_back({(y / kTile) * tiles + x / kTile, i, f});
+          // A texel's point covers only if it lies in the prism of the
+          // triangle (grown by the in-plane slack) ± tolerance along its
+          // normal; on the face's plane that is inside the orthogonal
+          // projection of the prism's corners, whose atlas box bounds the texels.
+          const Vec3 tn = (patch.positions[tri[1]] - patch.positions[tri[0]])
+                              .cross(patch.positions[tri[2]] - patch.positions[tri[0]])
+                              .normalized();
+          const Vec3 tu = (patch.positions[tri[1]] - patch.positions[tri[0]]).normalized(), tv = tn.cross(tu);
+          const double slack = 0.1 * tolerance;  // project_to_patch_triangle's in-plane slack
+          std::vector<Vec3> prism;
+          for (int k = 0; k < 3; ++k) {
+            for (int corner = 0; corner < 8; ++corner) {
+              prism.push_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
+                              ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance : -tolerance) * tn);
             }
           }
-          if (refs.empty()) continue;
-          std::sort(refs.begin(), refs.end(),
-                    [](const TexelRef& a, const TexelRef& b) { return a.tile != b.tile ? a.tile < b.tile : a.texel < b.texel; });
-          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(out.lists.size())};
-          int last = -1;
-          for (const TexelRef& r : refs) {
-            if (r.tile != last) out.placed.emplace_back(r.tile, job);
-            last = r.tile;
+          const double margin = 1.0;  // texel centres
+          std::vector<Region> regions;
+          std::vector<int> touched;
+          for (int f : surface.faces_in_box(lo - grow, hi + grow)) {
+            if (map.face_start[f] == map.face_start[f + 1]) continue;
+            const Tri& ft = surface.mesh().triangles[f];
+            const Vec3& a = surface.mesh().positions[ft[0]];
+            const Vec3 e1 = surface.mesh().positions[ft[1]] - a, e2 = surface.mesh().positions[ft[2]] - a;
+            const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2), den = d00 * d11 - d01 * d01;
+            const auto& corner = atlas.corner_px[f];
+            Vec2 rlo = Vec2::Constant(std::numeric_limits<double>::max()), rhi = -rlo;
+            if (den > 0.0 && std::isfinite(tn.squaredNorm())) {
+              for (const Vec3& q : prism) {  // unclamped barycentrics of q's projection on the face plane
+                const Vec3 v = q - a;
+                const double d20 = v.dot(e1), d21 = v.dot(e2);
+                const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den;
+                const Vec2 px = (1.0 - l1 - l2) * corner[0] + l1 * corner[1] + l2 * corner[2];
+                rlo = rlo.cwiseMin(px), rhi = rhi.cwiseMax(px);
+              }
+            } else {  // degenerate: the whole face
+              for (int k = 0; k < 3; ++k) rlo = rlo.cwiseMin(corner[k]), rhi = rhi.cwiseMax(corner[k]);
+            }
+            // Clipped to the face's own texels.
+            const Vec2 flo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
+            const Vec2 fhi = corner[0].cwiseMax(corner[1]).cwiseMax(corner[2]);
+            rlo = rlo.cwiseMax(flo), rhi = rhi.cwiseMin(fhi);
+            const Region r{f, std::max(0, static_cast<int>(std::floor(rlo.x() - 0.5 - margin))),
+                           std::max(0, static_cast<int>(std::floor(rlo.y() - 0.5 - margin))),
+                           std::min(n - 1, static_cast<int>(std::ceil(rhi.x() - 0.5 + margin))),
+                           std::min(n - 1, static_cast<int>(std::ceil(rhi.y() - 0.5 + margin)))};
+            if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+            regions.push_back(r);
+            for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
+              for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) touched.push_back(ty * tiles + tx);
+            }
           }
-          out.lists.push_back(std::move(refs));
+          if (regions.empty()) continue;
+          std::sort(touched.begin(), touched.end());
+          touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(out.lists.size())};
+          for (int tile : touched) out.placed.emplace_back(tile, job);
+          out.lists.push_back(std::move(regions));
         }
       }
     });
     for (Bins& b : bins) {
-      const int offset = static_cast<int>(texel_lists.size());
-      for (auto& list : b.lists) texel_lists.push_back(std::move(list));
+      const int offset = static_cast<int>(region_lists.size());
+      for (auto& list : b.lists) region_lists.push_back(std::move(list));
       for (auto [tile, job] : b.placed) {
-        if (job.texels >= 0) job.texels += offset;
+        if (job.regions >= 0) job.regions += offset;
         jobs[tile].push_back(job);
       }
       result.exact_triangles += b.exact;
     }
-    tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t tile) {
-      const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
-      const int tx1 = std::min(n, tx0 + kTile), ty1 = std::min(n, ty0 + kTile);
+  }
+
+  // Per tile, in parallel: accumulate into tile-local sums (each texel's
+  // contributions in patch order), then resolve Eq. 7 (or linear), clamp,
+  // and fill the outputs of the tile's texels.
+  Image& color = result.color;
+  auto layer = [&](Image& im, int channels) {
+    im.width = im.height = n;
+    im.channels = channels;
+    im.pixels.assign(texel_count * channels, 0.0f);
+  };
+  layer(color, nc);
+  if (options.aov) {
+    layer(result.weight, 1);
+    layer(result.count, 1);
+    layer(result.patch, 3);
+  }
+  std::vector<char> mask(texel_count, 0);
+  struct Tally {
+    std::size_t chart = 0, bare = 0, clamped = 0;
+  };
+  std::vector<Tally> tally(tile_count);
+  tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t tile) {
+    if (!tile_live[tile]) return;
+    const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
+    const int tx1 = std::min(n, tx0 + kTile), ty1 = std::min(n, ty0 + kTile);
+    Accumulator acc(static_cast<std::size_t>(kTile) * kTile, nc);
+    auto local = [&](std::size_t i) {
+      return static_cast<std::size_t>(static_cast<int>(i / n) - ty0) * kTile + (static_cast<int>(i % n) - tx0);
+    };
+    if (locator) {
+      std::vector<PatchHit> hits;
+      for (int y = ty0; y < ty1; ++y) {
+        for (int x = tx0; x < tx1; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * n + x;
+          if (map.face[i] < 0) continue;
+          const SurfacePoint s = surface.at(map.face[i], map.bary[i]);
+          locator->locate(s.position, surface.normal_at(s), hits);
+          for (const PatchHit& h : hits) contribute.add(acc, local(i), h.patch, h.uv, h.weight);
+        }
+      }
+    } else {
       for (const Job& job : jobs[tile]) {
         const Patch& patch = patches[job.patch];
         const Tri& tri = patch.triangles[job.tri];
-        if (job.texels < 0) {
+        if (job.regions < 0) {
           const auto& px = tri_px[tri_px_base[job.patch] + job.tri];
           const int chart = atlas.face_chart[patch.projections[tri[0]].face];
           const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
@@ -328,80 +444,68 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
               }
               const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
               const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
-              contribute.add(acc, i, job.patch, uv, w);
+              contribute.add(acc, local(i), job.patch, uv, w);
             }
           }
         } else {
-          const std::vector<TexelRef>& refs = texel_lists[job.texels];
-          auto it = std::lower_bound(refs.begin(), refs.end(), static_cast<int>(tile),
-                                     [](const TexelRef& r, int t) { return r.tile < t; });
-          for (; it != refs.end() && it->tile == static_cast<int>(tile); ++it) {
-            const SurfacePoint s = surface.at(it->face, map.bary[it->texel]);
-            Vec3 l;
-            double dist2;
-            if (project_to_patch_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, l, dist2)) {
-              const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
-              const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
-              contribute.add(acc, it->texel, job.patch, uv, w);
+          for (const Region& r : region_lists[job.regions]) {
+            for (int y = std::max(r.y0, ty0); y <= std::min(r.y1, ty1 - 1); ++y) {
+              for (int x = std::max(r.x0, tx0); x <= std::min(r.x1, tx1 - 1); ++x) {
+                const std::size_t i = static_cast<std::size_t>(y) * n + x;
+                if (map.face[i] != r.face) continue;
+                const SurfacePoint s = surface.at(r.face, map.bary[i]);
+                Vec3 l;
+                double dist2;
+                if (project_to_patch_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, l, dist2)) {
+                  const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+                  const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
+                  contribute.add(acc, local(i), job.patch, uv, w);
+                }
+              }
             }
           }
         }
       }
-    });
-  }
-
-  // Resolve Eq. 7 (or linear), clamp, count holes.
-  Image& color = result.color;
-  color.width = color.height = n;
-  color.channels = nc;
-  color.pixels.assign(texel_count * nc, 0.0f);
-  std::vector<char> mask(texel_count, 0);
-  std::size_t chart = 0, bare = 0, clamped = 0;
-  for (std::size_t i = 0; i < texel_count; ++i) {
-    if (map.face[i] < 0) continue;
-    ++chart;
-    mask[i] = 1;
-    if (!(acc.sum_w[i] > 0.0)) {
-      ++bare;
-      for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
-      continue;
     }
-    bool out_of_range = false;
-    for (int c = 0; c < nc; ++c) {
-      const double v = options.blend == Blend::ContrastPreserving
-                           ? acc.sum[i * nc + c] / std::sqrt(acc.sum_w2[i]) + exemplar.mean()[c]  // Eq. 7
-                           : acc.sum[i * nc + c] / acc.sum_w[i];
-      out_of_range = out_of_range || v < 0.0 || v > 1.0;
-      color.pixels[i * nc + c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
-    }
-    clamped += out_of_range;
-  }
-  result.chart_texels = chart;
-  result.uncovered_texels = bare;
-  result.clamped_texels = clamped;
-  const int rings = 8;
-  if (options.aov) {
-    auto layer = [&](int channels) {
-      Image im;
-      im.width = im.height = n;
-      im.channels = channels;
-      im.pixels.assign(texel_count * channels, 0.0f);
-      return im;
-    };
-    result.weight = layer(1);
-    result.count = layer(1);
-    result.patch = layer(3);
-    for (std::size_t i = 0; i < texel_count; ++i) {
-      if (map.face[i] < 0) continue;
-      result.weight.pixels[i] = static_cast<float>(acc.sum_w[i]);
-      result.count.pixels[i] = static_cast<float>(acc.count[i]);
-      if (acc.best_patch[i] >= 0) {
-        const auto rgb = id_color(patches[acc.best_patch[i]].id);
-        for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
+    Tally& t = tally[tile];
+    for (int y = ty0; y < ty1; ++y) {
+      for (int x = tx0; x < tx1; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * n + x;
+        if (map.face[i] < 0) continue;
+        const std::size_t j = local(i);
+        ++t.chart;
+        mask[i] = 1;
+        if (options.aov) {
+          result.weight.pixels[i] = static_cast<float>(acc.sum_w[j]);
+          result.count.pixels[i] = static_cast<float>(acc.count[j]);
+          if (acc.best_patch[j] >= 0) {
+            const auto rgb = id_color(patches[acc.best_patch[j]].id);
+            for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
+          }
+        }
+        if (!(acc.sum_w[j] > 0.0)) {
+          ++t.bare;
+          for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
+          continue;
+        }
+        bool out_of_range = false;
+        for (int c = 0; c < nc; ++c) {
+          const double v = options.blend == Blend::ContrastPreserving
+                               ? acc.sum[j * nc + c] / std::sqrt(acc.sum_w2[j]) + exemplar.mean()[c]  // Eq. 7
+                               : acc.sum[j * nc + c] / acc.sum_w[j];
+          out_of_range = out_of_range || v < 0.0 || v > 1.0;
+          color.pixels[i * nc + c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
+        }
+        t.clamped += out_of_range;
       }
     }
+  });
+  for (const Tally& t : tally) {
+    result.chart_texels += t.chart;
+    result.uncovered_texels += t.bare;
+    result.clamped_texels += t.clamped;
   }
-  dilate(color, mask, rings);
+  dilate(color, mask, 8);
   return result;
 }
 

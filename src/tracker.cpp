@@ -127,8 +127,8 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
-    const PatchLocator locator(patches_, o.max_projection, &live_mask);
-    uncovered = uncovered_samples(candidates, locator);
+    const PatchCoverage coverage(patches_, o.max_projection, &live_mask);
+    uncovered = uncovered_samples(candidates, coverage);
   }
   const std::vector<SurfaceSample> fresh =
       fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,

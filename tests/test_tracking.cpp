@@ -2,6 +2,7 @@
 // properties, patch creation, and the tracker's determinism and state.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include <oneapi/tbb/global_control.h>
@@ -382,8 +383,8 @@ TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
         if (p.state == DiskState::Active) ASSERT_EQ(p.kt, 1.0);
         if (p.state == DiskState::FadingIn) ASSERT_LT(p.kt, 1.0);
       }
-      const PatchLocator locator(t.patches(), t.settings().method.max_projection);
-      EXPECT_LT(uncovered_area_fraction(*t.surface(), locator), 1e-3) << "frame " << f;
+      const PatchCoverage coverage(t.patches(), t.settings().method.max_projection);
+      EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage), 1e-3) << "frame " << f;
     }
     if (std::string(scene) == "rotation") {
       EXPECT_EQ(removed, 0);
@@ -442,6 +443,40 @@ TEST(Tracker, StateFileErrors) {
   test::write_file(dir.path() / "u.bin", "hello");
   EXPECT_THROW(Tracker::load(dir.file("u.bin"), rotating_grid(1.0)), InputError);
   EXPECT_THROW(Tracker::load(dir.file("missing.bin"), rotating_grid(1.0)), InputError);
+}
+
+TEST(PatchCoverage, AgreesWithTheExactLocator) {
+  // The cheap coverage test must give the locator's answer (some hit with
+  // w > 0) everywhere, including near patch rims and fading patches.
+  SceneOptions so;
+  so.resolution = 20;
+  so.frames = 12;
+  Tracker t(TrackerSettings{});
+  for (int f = 1; f <= 8; ++f) t.step(std::make_shared<FrameMesh>(make_scene_frame("drop", f, so)), f, 1.0 / so.fps);
+  const double tol = t.settings().method.max_projection;
+  // Every other patch only, so that some points are bare.
+  std::vector<char> half(t.patches().size(), 0);
+  for (std::size_t i = 0; i < half.size(); i += 2) half[i] = 1;
+  const PatchLocator locator(t.patches(), tol, &half);
+  const PatchCoverage coverage(t.patches(), tol, &half);
+  const SurfaceIndex& surface = *t.surface();
+  std::vector<PatchHit> hits;
+  int covered = 0, bare = 0;
+  for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {
+    for (const Vec3& b : {Vec3(Vec3::Constant(1.0 / 3.0)), Vec3(0.8, 0.1, 0.1), Vec3(0.05, 0.05, 0.9), Vec3(0.5, 0.5, 0.0)}) {
+      const SurfacePoint s = surface.at(static_cast<int>(f), b);
+      const Vec3 n = surface.normal_at(s);
+      locator.locate(s.position, n, hits);
+      const bool expected = std::any_of(hits.begin(), hits.end(), [](const PatchHit& h) { return h.weight > 0.0; });
+      ASSERT_EQ(coverage.covers(s.position, n), expected) << "face " << f;
+      (expected ? covered : bare)++;
+    }
+  }
+  EXPECT_GT(covered, 1000);
+  EXPECT_GT(bare, 100);
+  // With no patch nothing is covered.
+  const std::vector<Patch> none;
+  EXPECT_FALSE(PatchCoverage(none, tol).covers(Vec3::Zero(), Vec3::UnitZ()));
 }
 
 }  // namespace

@@ -52,11 +52,33 @@ class PatchLocator {
   std::unique_ptr<Tree> tree_;
 };
 
+/// Whether some patch covers a surface point with a positive weight: the same
+/// answer as PatchLocator (any hit with w > 0), found the cheap way. Patches
+/// are bounded by spheres (vertex centroid, farthest vertex) in a k-d tree
+/// of a few thousand centres; the patches whose sphere reaches the point are
+/// tried nearest first; in each, as in locate(), the nearest triangle the
+/// point projects into (behind a centroid-distance reject) gives the weight.
+/// The first patch with w > 0 answers. Most points are covered by their
+/// nearest patch, so the answer usually comes after one patch, and no tree
+/// is built over the millions of patch triangles.
+class PatchCoverage {
+ public:
+  PatchCoverage(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include = nullptr);
+  ~PatchCoverage();
+  bool covers(const Vec3& p, const Vec3& n) const;  ///< thread safe
+
+ private:
+  struct Bounds;
+  const std::vector<Patch>* patches_;
+  double tolerance_;
+  std::unique_ptr<Bounds> bounds_;
+};
+
 /// Fraction of the surface area with Σw = 0: each triangle counts with its
 /// area when its centroid has no covering patch of positive weight.
-double uncovered_area_fraction(const SurfaceIndex& surface, const PatchLocator& locator);
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage);
 
-/// Per sample: 1 when no located patch covers it with positive weight.
-std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchLocator& locator);
+/// Per sample: 1 when no patch covers it with positive weight.
+std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage);
 
 }  // namespace fluidtex
