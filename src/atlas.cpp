@@ -70,6 +70,18 @@ bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatCha
   return true;
 }
 
+/// Share of the chart's bounding box its faces cover (the best a packer
+/// can do with it).
+double box_fill(const FlatChart& fc) {
+  const Vec2 span = fc.max - fc.min;
+  if (!(span.x() > 0.0 && span.y() > 0.0)) return 1.0;
+  double area = 0.0;
+  for (const auto& c : fc.corners) {
+    area += 0.5 * std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x());
+  }
+  return area / (span.x() * span.y());
+}
+
 /// One face laid flat on its own (for charts LSCM could not handle).
 FlatChart flat_face(const FrameMesh& mesh, int f) {
   const Tri& t = mesh.triangles[f];
@@ -84,75 +96,140 @@ FlatChart flat_face(const FrameMesh& mesh, int f) {
   return out;
 }
 
-/// Skyline bottom-left packing of rectangles into a square of side `size`,
-/// tallest first, each placed where its top ends lowest (then leftmost),
-/// upright or turned by 90°. Fills `origin` and `turned`; false when they do
-/// not fit. Deterministic (ties by index).
-bool pack_skyline(const std::vector<Eigen::Vector2i>& extent, int size, std::vector<Eigen::Vector2i>& origin,
-                  std::vector<char>& turned) {
-  std::vector<int> order(extent.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const int ha = std::max(extent[a].x(), extent[a].y()), hb = std::max(extent[b].x(), extent[b].y());
-    return ha > hb;
-  });
-  struct Segment {
-    int x, y, w;
+/// A chart's placement: rotation by r·90°, and the lower-left texel of its
+/// footprint's box (gutter included).
+struct Placement {
+  int rotation = 0;
+  Eigen::Vector2i origin{0, 0};
+  Eigen::Vector2i extent{0, 0};
+};
+
+/// Flat coordinates turned by r·90° and moved so that the box starts at 0.
+Vec2 turn(const FlatChart& fc, int r, const Vec2& p) {
+  switch (r) {
+    case 1: return {fc.max.y() - p.y(), p.x() - fc.min.x()};
+    case 2: return {fc.max.x() - p.x(), fc.max.y() - p.y()};
+    case 3: return {p.y() - fc.min.y(), fc.max.x() - p.x()};
+    default: return p - fc.min;
+  }
+}
+
+/// y-range of a triangle within the slab x0 <= x <= x1; false if it misses.
+bool slab_range(const std::array<Vec2, 3>& t, double x0, double x1, double& lo, double& hi) {
+  bool any = false;
+  auto take = [&](double y) {
+    lo = any ? std::min(lo, y) : y;
+    hi = any ? std::max(hi, y) : y;
+    any = true;
   };
-  std::vector<Segment> sky{{0, 0, size}};
-  origin.assign(extent.size(), Eigen::Vector2i::Zero());
-  turned.assign(extent.size(), 0);
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& a = t[k];
+    const Vec2& b = t[(k + 1) % 3];
+    if (a.x() >= x0 && a.x() <= x1) take(a.y());
+    for (double xs : {x0, x1}) {
+      if ((a.x() - xs) * (b.x() - xs) < 0.0) take(a.y() + (xs - a.x()) / (b.x() - a.x()) * (b.y() - a.y()));
+    }
+  }
+  return any;
+}
+
+/// Per column of `cell` texels, the cells a chart occupies (its footprint
+/// grown by the gutter): [bottom, top); empty columns have bottom > top.
+struct Profile {
+  std::vector<int> bottom, top;
+  int top_max = 0;
+  Eigen::Vector2i extent{0, 0};  // texels
+};
+
+Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, int cell) {
+  const Vec2 span = (r % 2 ? Vec2(fc.max.y() - fc.min.y(), fc.max.x() - fc.min.x()) : Vec2(fc.max - fc.min)) * density;
+  Profile out;
+  out.extent = Eigen::Vector2i(static_cast<int>(std::ceil(span.x())) + 2 * gutter + 1,
+                               static_cast<int>(std::ceil(span.y())) + 2 * gutter + 1);
+  const int cols = (out.extent.x() + cell - 1) / cell;
+  std::vector<double> lo(cols, std::numeric_limits<double>::max()), hi(cols, std::numeric_limits<double>::lowest());
+  const double g = gutter + 0.5;  // where the footprint starts in its box (texel centres at +0.5)
+  for (const auto& corners : fc.corners) {
+    std::array<Vec2, 3> t;
+    for (int k = 0; k < 3; ++k) t[k] = turn(fc, r, corners[k]) * density + Vec2::Constant(g);
+    const double xmin = std::min({t[0].x(), t[1].x(), t[2].x()}), xmax = std::max({t[0].x(), t[1].x(), t[2].x()});
+    const int c0 = std::max(0, static_cast<int>(std::floor((xmin - gutter) / cell)));
+    const int c1 = std::min(cols - 1, static_cast<int>(std::floor((xmax + gutter) / cell)));
+    for (int c = c0; c <= c1; ++c) {
+      double y0, y1;
+      if (!slab_range(t, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0, y1)) continue;
+      lo[c] = std::min(lo[c], y0);
+      hi[c] = std::max(hi[c], y1);
+    }
+  }
+  out.bottom.assign(cols, 1);
+  out.top.assign(cols, 0);
+  for (int c = 0; c < cols; ++c) {
+    if (lo[c] > hi[c]) continue;
+    out.bottom[c] = std::max(0, static_cast<int>(std::floor((lo[c] - gutter) / cell)));
+    out.top[c] = static_cast<int>(std::ceil((hi[c] + gutter) / cell));
+    out.top_max = std::max(out.top_max, out.top[c]);
+  }
+  out.extent.y() = std::max(out.extent.y(), out.top_max * cell);
+  out.extent.x() = cols * cell;
+  return out;
+}
+
+/// Packs chart shapes, not their boxes (the "Tetris" packing of Lévy et
+/// al. 2002, Sec. 5): the atlas keeps a horizon (per column of cells, the
+/// top of what is placed); each chart, largest first, is dropped in the
+/// column and rotation (of four) where it comes to rest wasting the least
+/// area under it, where raising the horizon's maximum counts as wasting a
+/// full row. Concave footprints nest into each other. Deterministic (ties:
+/// lower column, then lower rotation). False when the charts do not fit.
+bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, int gutter,
+                 std::vector<Placement>& out) {
+  const int cell = std::max(1, size / 512);
+  const int cols = size / cell, rows = size / cell;
+  const std::size_t m = flat.size();
+  std::vector<std::array<Profile, 4>> profiles(m);
+  std::vector<double> area(m, 0.0);
+  tbb::parallel_for(std::size_t(0), m, [&](std::size_t c) {
+    for (int r = 0; r < 4; ++r) profiles[c][r] = chart_profile(flat[c], r, density, gutter, cell);
+    for (std::size_t k = 0; k < profiles[c][0].bottom.size(); ++k) {
+      area[c] += std::max(0, profiles[c][0].top[k] - profiles[c][0].bottom[k]);
+    }
+  });
+  std::vector<int> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+  std::vector<int> horizon(cols, 0);
+  int horizon_max = 0;
+  out.assign(m, Placement{});
   for (int i : order) {
-    int best_top = std::numeric_limits<int>::max(), best_x = 0, best_seg = -1;
-    bool best_turn = false;
-    for (int turn = 0; turn < 2; ++turn) {
-      const int w = turn ? extent[i].y() : extent[i].x();
-      const int h = turn ? extent[i].x() : extent[i].y();
-      if (w > size) continue;
-      for (std::size_t s = 0; s < sky.size(); ++s) {
-        const int x = sky[s].x;
-        if (x + w > size) break;
-        // The rectangle rests on the highest segment it spans.
-        int y = 0, covered = 0;
-        for (std::size_t k = s; k < sky.size() && covered < w; ++k) {
-          y = std::max(y, sky[k].y);
-          covered += sky[k].w - (k == s ? 0 : 0);
+    long best_score = std::numeric_limits<long>::max();
+    int best_x = -1, best_y = 0, best_r = 0;
+    for (int r = 0; r < 4; ++r) {
+      const Profile& p = profiles[i][r];
+      const int w = static_cast<int>(p.bottom.size());
+      if (w > cols || p.top_max > rows) continue;
+      for (int x = 0; x + w <= cols; ++x) {
+        int y = 0;
+        for (int c = 0; c < w; ++c) {
+          if (p.bottom[c] <= p.top[c]) y = std::max(y, horizon[x + c] - p.bottom[c]);
         }
-        if (y + h > size) continue;
-        if (y + h < best_top || (y + h == best_top && x < best_x)) {
-          best_top = y + h, best_x = x, best_seg = static_cast<int>(s), best_turn = turn;
+        if (y + p.top_max > rows) continue;
+        long waste = static_cast<long>(std::max(0, y + p.top_max - horizon_max)) * cols;
+        for (int c = 0; c < w; ++c) {
+          if (p.bottom[c] <= p.top[c]) waste += y + p.bottom[c] - horizon[x + c];
         }
+        if (waste < best_score) best_score = waste, best_x = x, best_y = y, best_r = r;
       }
     }
-    if (best_seg < 0) return false;
-    const int w = best_turn ? extent[i].y() : extent[i].x();
-    const int h = best_turn ? extent[i].x() : extent[i].y();
-    int y = 0, covered = 0;
-    for (std::size_t k = best_seg; k < sky.size() && covered < w; ++k) {
-      y = std::max(y, sky[k].y);
-      covered += sky[k].w;
+    if (best_x < 0) return false;
+    const Profile& p = profiles[i][best_r];
+    for (std::size_t c = 0; c < p.bottom.size(); ++c) {
+      if (p.bottom[c] <= p.top[c]) horizon[best_x + c] = std::max(horizon[best_x + c], best_y + p.top[c]);
     }
-    origin[i] = Eigen::Vector2i(best_x, y);
-    turned[i] = best_turn;
-    // New skyline: [best_x, best_x + w) at height y + h; trim what it covers.
-    std::vector<Segment> next;
-    for (const Segment& seg : sky) {
-      const int a = seg.x, b = seg.x + seg.w;
-      if (b <= best_x || a >= best_x + w) {
-        next.push_back(seg);
-        continue;
-      }
-      if (a < best_x) next.push_back({a, seg.y, best_x - a});
-      if (b > best_x + w) next.push_back({best_x + w, seg.y, b - (best_x + w)});
-    }
-    next.push_back({best_x, y + h, w});
-    std::sort(next.begin(), next.end(), [](const Segment& p, const Segment& q) { return p.x < q.x; });
-    // Merge neighbours at the same height.
-    sky.clear();
-    for (const Segment& seg : next) {
-      if (!sky.empty() && sky.back().y == seg.y && sky.back().x + sky.back().w == seg.x) sky.back().w += seg.w;
-      else sky.push_back(seg);
-    }
+    horizon_max = std::max(horizon_max, best_y + p.top_max);
+    out[i].rotation = best_r;
+    out[i].origin = Eigen::Vector2i(best_x * cell, best_y * cell);
+    out[i].extent = p.extent;
   }
   return true;
 }
@@ -202,7 +279,8 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     std::vector<char> ok(chart_faces.size(), 1);
     tbb::parallel_for(std::size_t(0), chart_faces.size(), [&](std::size_t c) {
       if (chart_faces[c].size() == 1) flat[c] = flat_face(mesh, chart_faces[c][0]);
-      else ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch;
+      else ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch &&
+                   (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
     });
     pending.clear();
     for (std::size_t c = 0; c < chart_faces.size(); ++c) {
@@ -222,32 +300,22 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     max_faces = std::max<std::size_t>(1, max_faces / 4);
   }
 
-  // 3. Common density: the largest (bisection) whose shelf packing fits.
+  // 3. Common density: the largest (bisection) at which the charts pack.
   double area3 = 0.0;
   for (double a : surface.face_areas()) area3 += a;
   const int n = options.size;
-  const int pad = 2 * options.gutter;
-  auto extents_for = [&](double density) {
-    std::vector<Eigen::Vector2i> ext(final_flat.size());
-    for (std::size_t c = 0; c < final_flat.size(); ++c) {
-      const Vec2 span = (final_flat[c].max - final_flat[c].min) * density;
-      ext[c] = Eigen::Vector2i(static_cast<int>(std::ceil(span.x())) + pad + 1, static_cast<int>(std::ceil(span.y())) + pad + 1);
-    }
-    return ext;
-  };
-  std::vector<Eigen::Vector2i> origin;
-  std::vector<char> turned;
+  std::vector<Placement> placement;
   double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
-  for (int iter = 0; iter < 30; ++iter) {
+  for (int iter = 0; iter < 14; ++iter) {  // density to 1/16000 of the 100% bound
     const double mid = 0.5 * (lo + hi);
-    if (pack_skyline(extents_for(mid), n, origin, turned)) lo = mid;
+    if (pack_shapes(final_flat, mid, n, options.gutter, placement)) lo = mid;
     else hi = mid;
   }
-  if (!(lo > 0.0)) throw InternalError("atlas: " + std::to_string(final_flat.size()) + " charts do not fit in " +
-                                       std::to_string(n) + "² texels; raise --atlas-size");
+  if (!(lo > 0.0) || !pack_shapes(final_flat, lo, n, options.gutter, placement)) {
+    throw InternalError("atlas: " + std::to_string(final_flat.size()) + " charts do not fit in " + std::to_string(n) +
+                        "² texels; raise --atlas-size");
+  }
   atlas.texels_per_unit = lo;
-  const std::vector<Eigen::Vector2i> extent = extents_for(lo);
-  pack_skyline(extent, n, origin, turned);
 
   // 4. Corner positions in texels.
   atlas.charts.resize(final_faces.size());
@@ -255,15 +323,12 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
   for (std::size_t c = 0; c < final_faces.size(); ++c) {
     Chart& chart = atlas.charts[c];
     chart.faces = std::move(final_faces[c]);
-    chart.origin = origin[c];
-    chart.extent = turned[c] ? Eigen::Vector2i(extent[c].y(), extent[c].x()) : extent[c];
+    chart.origin = placement[c].origin;
+    chart.extent = placement[c].extent;
     chart.stretch = final_stretch[c];
-    // Turned charts are rotated by 90° (x, y) -> (max.y − y, x − min.x).
     const FlatChart& fc = final_flat[c];
-    auto place = [&](const Vec2& p) {
-      const Vec2 local = turned[c] ? Vec2(fc.max.y() - p.y(), p.x() - fc.min.x()) : Vec2(p - fc.min);
-      return Vec2(local * lo + origin[c].cast<double>() + Vec2::Constant(options.gutter + 0.5));
-    };
+    const Vec2 offset = placement[c].origin.cast<double>() + Vec2::Constant(options.gutter + 0.5);
+    auto place = [&](const Vec2& p) { return Vec2(turn(fc, placement[c].rotation, p) * lo + offset); };
     for (std::size_t i = 0; i < chart.faces.size(); ++i) {
       const int f = chart.faces[i];
       atlas.face_chart[f] = static_cast<int>(c);

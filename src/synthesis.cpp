@@ -240,6 +240,22 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     for (std::size_t p = 0; p < patches.size(); ++p) tri_px_base[p + 1] = tri_px_base[p] + patches[p].triangles.size();
     tri_px.resize(tri_px_base.back());
     tri_rim.assign(tri_px_base.back(), 0);
+    // Faces touching (by a vertex) a face of another chart. A patch triangle
+    // with a corner over one of them may reach into the other chart, which
+    // its atlas corners in one chart cannot show: it goes the exact way.
+    const FrameMesh& mesh = surface.mesh();
+    std::vector<int> vertex_chart(mesh.positions.size(), -1);
+    std::vector<char> mixed(mesh.positions.size(), 0);
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+      for (int v : mesh.triangles[f]) {
+        if (vertex_chart[v] < 0) vertex_chart[v] = atlas.face_chart[f];
+        else if (vertex_chart[v] != atlas.face_chart[f]) mixed[v] = 1;
+      }
+    }
+    std::vector<char> chart_border(mesh.triangles.size(), 0);
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+      for (int v : mesh.triangles[f]) chart_border[f] |= mixed[v];
+    }
     // Per patch, in parallel: its boundary edges and where its triangles go
     // (tile, job). Then merged in patch order, so every tile's list is in
     // patch order whatever the thread count.
@@ -278,8 +294,11 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
         const Tri& tri = patch.triangles[t];
         if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
         const int c0 = atlas.face_chart[patch.projections[tri[0]].face];
-        const bool one_chart = atlas.face_chart[patch.projections[tri[1]].face] == c0 &&
-                               atlas.face_chart[patch.projections[tri[2]].face] == c0;
+        bool one_chart = true;
+        for (int k = 0; k < 3; ++k) {
+          const int f = patch.projections[tri[k]].face;
+          one_chart = one_chart && atlas.face_chart[f] == c0 && !chart_border[f];
+        }
         if (one_chart) {
           auto& px = tri_px[tri_px_base[p] + t];
           for (int k = 0; k < 3; ++k) {
@@ -411,9 +430,31 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
         }
       }
     } else {
+      // Exact hits wait until the patch's last job: as in locate(), the
+      // patch's nearest triangle gives a texel its uv and weight. A raster
+      // hit of the same patch, added at once, takes precedence.
+      struct Pending {
+        double dist2 = std::numeric_limits<double>::infinity();
+        Vec2 uv;
+        double w = 0.0;
+      };
+      std::vector<Pending> pending(static_cast<std::size_t>(kTile) * kTile);
+      std::vector<std::size_t> pending_texels;
+      int pending_patch = -1;
+      auto flush = [&] {
+        for (std::size_t j : pending_texels) {
+          contribute.add(acc, j, pending_patch, pending[j].uv, pending[j].w);
+          pending[j] = Pending{};
+        }
+        pending_texels.clear();
+      };
       for (const Job& job : jobs[tile]) {
         const Patch& patch = patches[job.patch];
         const Tri& tri = patch.triangles[job.tri];
+        if (job.patch != pending_patch) {
+          flush();
+          pending_patch = job.patch;
+        }
         if (job.regions < 0) {
           const auto& px = tri_px[tri_px_base[job.patch] + job.tri];
           const int chart = atlas.face_chart[patch.projections[tri[0]].face];
@@ -457,15 +498,19 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                 Vec3 l;
                 double dist2;
                 if (project_to_patch_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, l, dist2)) {
-                  const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
-                  const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
-                  contribute.add(acc, local(i), job.patch, uv, w);
+                  Pending& slot = pending[local(i)];
+                  if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
+                  if (std::isinf(slot.dist2)) pending_texels.push_back(local(i));
+                  slot.dist2 = dist2;
+                  slot.uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+                  slot.w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
                 }
               }
             }
           }
         }
       }
+      flush();
     }
     Tally& t = tally[tile];
     for (int y = ty0; y < ty1; ++y) {

@@ -46,15 +46,40 @@ void check_atlas(const SurfaceIndex& surface, const Atlas& atlas, const AtlasOpt
       EXPECT_LE(p.x(), atlas.size);
     }
   }
-  for (std::size_t a = 0; a < atlas.charts.size(); ++a) {
-    for (std::size_t b = 0; b < a; ++b) {
-      const Chart& A = atlas.charts[a];
-      const Chart& B = atlas.charts[b];
-      const bool apart = A.origin.x() + A.extent.x() <= B.origin.x() || B.origin.x() + B.extent.x() <= A.origin.x() ||
-                         A.origin.y() + A.extent.y() <= B.origin.y() || B.origin.y() + B.extent.y() <= A.origin.y();
-      EXPECT_TRUE(apart) << "charts " << a << " and " << b << " overlap";
+  // Chart footprints (texel centres inside their triangles) keep the gutter
+  // between them: no texel of another chart within 2·gutter − 1 (L∞).
+  const int n = atlas.size;
+  std::vector<int> owner(static_cast<std::size_t>(n) * n, -1);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& p = atlas.corner_px[f];
+    const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+    for (int y = std::max(0, static_cast<int>(lo.y()) - 1); y <= std::min(n - 1, static_cast<int>(hi.y()) + 1); ++y) {
+      for (int x = std::max(0, static_cast<int>(lo.x()) - 1); x <= std::min(n - 1, static_cast<int>(hi.x()) + 1); ++x) {
+        const Vec2 q(x + 0.5, y + 0.5);
+        const double s0 = tri_area2(p[0], p[1], q), s1 = tri_area2(p[1], p[2], q), s2 = tri_area2(p[2], p[0], q);
+        if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) {
+          owner[static_cast<std::size_t>(y) * n + x] = atlas.face_chart[f];
+        }
+      }
     }
   }
+  const int reach = 2 * options.gutter - 1;
+  int conflicts = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const int o = owner[static_cast<std::size_t>(y) * n + x];
+      if (o < 0) continue;
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= n || yy >= n) continue;
+          const int other = owner[static_cast<std::size_t>(yy) * n + xx];
+          conflicts += other >= 0 && other != o;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(conflicts, 0) << "charts closer than the gutter";
   // Uniform texel density: per chart, atlas area / 3D area ≈ density², and
   // per-chart area distortion bounded.
   for (const Chart& chart : atlas.charts) {
