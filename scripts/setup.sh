@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
-  libopenimageio-dev libopenexr-dev libopencv-dev
+  libopenimageio-dev libopenexr-dev libopencv-dev libopencv-video-dev
   libopenvdb-dev libboost-iostreams-dev
   libgtest-dev
 )

@@ -102,6 +102,19 @@ Exemplar load_exemplar(const std::string& path, bool displacement) {
   return Exemplar(std::move(image));
 }
 
+SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
+  SynthesisOptions synth;
+  synth.blend = so.blend;
+  synth.method = so.method;
+  synth.uv_scale = resolved.uv_scale;
+  // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
+  // a tile, each patch a different part of it (its random anchor).
+  synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;
+  synth.projection_tolerance = resolved.max_projection;  // as the tracker's coverage test
+  synth.aov = !so.aov.empty();
+  return synth;
+}
+
 void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
                       const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
                       int frame, FrameStats& stats) {
@@ -113,15 +126,7 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
   stats.seconds.emplace_back("atlas", seconds_since(t0));
   t0 = Clock::now();
   const TexelMap map = build_texel_map(surface, atlas);
-  SynthesisOptions synth;
-  synth.blend = so.blend;
-  synth.method = so.method;
-  synth.uv_scale = resolved.uv_scale;
-  // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
-  // a tile, each patch a different part of it (its random anchor).
-  synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;
-  synth.projection_tolerance = resolved.max_projection;  // as the tracker's coverage test
-  synth.aov = !so.aov.empty();
+  const SynthesisOptions synth = synthesis_options(resolved, so);
   const SynthesisResult result = synthesize(surface, atlas, map, patches, exemplar, synth);
   const double synth_seconds = seconds_since(t0);
   stats.seconds.emplace_back("synthesis", synth_seconds);
@@ -184,6 +189,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   if (!tracker) tracker.emplace(settings);
 
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
+  if (!options.manifest.empty()) write_text_atomically(options.output.dir + "/job.toml", options.manifest);
   int previous_frame = summary.resumed_after;
   std::size_t failed = 0;
 

@@ -12,6 +12,7 @@
 #include "fluidtex/synthesis.h"
 #include "fluidtex/tracker.h"
 #include "mesh_fixtures.h"
+#include "synthesis_fixtures.h"
 
 namespace fluidtex {
 namespace {
@@ -143,42 +144,8 @@ TEST(Atlas, TexelMapHitsItsFace) {
 }
 
 /// One flat patch of weight 1 everywhere over a unit square.
-struct OnePatch {
-  FrameMesh mesh = test::flat_grid(8);
-  SurfaceIndex surface{mesh};
-  Atlas atlas;
-  TexelMap map;
-  std::vector<Patch> patches;
-
-  explicit OnePatch(int size) {
-    AtlasOptions o;
-    o.size = size;
-    atlas = build_atlas(surface, o);
-    map = build_texel_map(surface, atlas);
-  }
-  Patch& add(const Vec2& anchor, double weight, double rotate = 0.0) {
-    Patch p;
-    p.id = static_cast<std::uint32_t>(patches.size());
-    p.kt = 1.0;
-    p.anchor = anchor;
-    p.positions = mesh.positions;
-    p.triangles = mesh.triangles;
-    const double c = std::cos(rotate), s = std::sin(rotate);
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-      const Vec3& q = mesh.positions[v];
-      p.uvs.emplace_back(c * q.x() - s * q.y(), s * q.x() + c * q.y());
-      p.projections.push_back(surface.closest_point(q));
-    }
-    p.weight.assign(mesh.positions.size(), static_cast<float>(weight));
-    p.border.assign(mesh.positions.size(), 0);
-    p.quality.assign(mesh.positions.size(), 1.0f);
-    patches.push_back(std::move(p));
-    return patches.back();
-  }
-};
-
 TEST(Synthesis, SinglePatchReproducesTheExemplar) {
-  OnePatch scene(128);
+  test::OnePatch scene(128);
   scene.add(Vec2(0.25, 0.5), 1.0);
   const Exemplar exemplar(make_exemplar("gravel", 64, 3));
   SynthesisOptions so;
@@ -202,7 +169,7 @@ TEST(Synthesis, Eq7KeepsMeanAndVarianceOfUncorrelatedPatches) {
   // Four patches with equal weight, far-apart anchors and turned uv: their
   // lookups are uncorrelated. Eq. 7 keeps the exemplar's mean and variance;
   // linear blending keeps the mean and loses contrast (≈ 1/sqrt(4)).
-  OnePatch scene(256);
+  test::OnePatch scene(256);
   for (int k = 0; k < 4; ++k) scene.add(Vec2(0.13 * k + 0.05, 0.29 * k + 0.1), 1.0, 0.9 * k);
   const Exemplar exemplar(make_exemplar("gravel", 64, 11));
   SynthesisOptions so;

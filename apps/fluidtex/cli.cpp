@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -12,6 +13,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include "fluidtex/error.h"
+#include "fluidtex/eval.h"
 #include "fluidtex/exemplar_gen.h"
 #include "fluidtex/image_io.h"
 #include "fluidtex/info.h"
@@ -147,9 +149,9 @@ void apply_config(CLI::App* cmd, const std::string& path) {
   }
 }
 
-void add_run(CLI::App& app, int& exit_code) {
-  auto args = std::make_shared<RunArgs>();
-  CLI::App* run = app.add_subcommand("run", "Track patches and synthesise the texture atlas of every frame");
+/// The options of `run`, bound to `args` (also used to read back a run's
+/// OUT/job.toml).
+void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
   // CLI11 2.1 does not read a subcommand's own config file before its
   // callback, so --config is applied by hand (apply_config).
   run->add_option("--config", args->config, "Read options from a TOML file (see --print-config); "
@@ -211,7 +213,36 @@ void add_run(CLI::App& app, int& exit_code) {
   run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
   run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit")
       ->configurable(false);
+}
 
+/// The named choices turned into the job's enums.
+void finish_run_args(RunArgs& args) {
+  args.job.tracking.criterion = criterion_from_string(args.criterion);
+  args.job.tracking.fading = fading_from_string(args.fading);
+  args.job.advection = advection_from_string(args.advection);
+  args.job.synthesis.blend = blend_from_string(args.blend);
+  args.job.synthesis.method = synthesis_from_string(args.synthesis);
+  if (args.float_output) args.job.synthesis.depth = PixelDepth::Float;
+}
+
+/// The options a finished run was made with, from its OUT/job.toml.
+JobOptions read_job_manifest(const std::string& run_dir) {
+  const std::string path = run_dir + "/job.toml";
+  if (!std::filesystem::exists(path)) {
+    throw InputError(path, "missing: not the output folder of a fluidtex run (or one made before job.toml existed)");
+  }
+  CLI::App app("run", "run");
+  auto args = std::make_shared<RunArgs>();
+  define_run_options(&app, args);
+  apply_config(&app, path);
+  finish_run_args(*args);
+  return args->job;
+}
+
+void add_run(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* run = app.add_subcommand("run", "Track patches and synthesise the texture atlas of every frame");
+  define_run_options(run, args);
   run->callback([run, args, &exit_code]() {
     if (!args->config.empty()) apply_config(run, args->config);
     if (args->print_config) {
@@ -219,12 +250,8 @@ void add_run(CLI::App& app, int& exit_code) {
       exit_code = 0;
       return;
     }
-    args->job.tracking.criterion = criterion_from_string(args->criterion);
-    args->job.tracking.fading = fading_from_string(args->fading);
-    args->job.advection = advection_from_string(args->advection);
-    args->job.synthesis.blend = blend_from_string(args->blend);
-    args->job.synthesis.method = synthesis_from_string(args->synthesis);
-    if (args->float_output) args->job.synthesis.depth = PixelDepth::Float;
+    finish_run_args(*args);
+    args->job.manifest = run->config_to_str(true, true);
     TerminalReporter reporter(args->verbosity, args->quiet);
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);
@@ -321,8 +348,56 @@ void add_preview(CLI::App& app, int& exit_code) {
   });
 }
 
+void add_eval(CLI::App& app, int& exit_code) {
+  struct EvalArgs {
+    EvalOptions eval;
+    std::string view = "top";
+    int verbosity = 0;
+    bool quiet = false;
+    int threads = 0;
+  };
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Measure a finished run: coverage, ghosting, patch life, distortion, texture-flow agreement, "
+              "contrast, spectrum (OUT/eval/metrics.jsonl, summary.json, report.html)");
+  cmd->add_option("-i,--input", args->eval.input.pattern, "The input sequence the run used")->required();
+  cmd->add_option("-o,--output", args->eval.run_dir, "The run's output folder (with job.toml)")->required();
+  cmd->add_option("--frames", args->eval.input.frames, "Frames to evaluate (default: the run's)");
+  cmd->add_option("-e,--exemplar", args->eval.exemplar, "Exemplar (default: the run's, from job.toml)");
+  cmd->add_option("--samples", args->eval.samples, "Warping-error sample points per frame pair")
+      ->check(CLI::Range(100, 10000000))
+      ->capture_default_str();
+  cmd->add_option("--seed", args->eval.seed, "Seed of the sample points")->capture_default_str();
+  cmd->add_option("--flow-width", args->eval.flow_width,
+                  "Render width for the optical-flow metric (0: skip it)")->capture_default_str();
+  cmd->add_option("--images", args->eval.report_images, "Preview images in the report")->capture_default_str();
+  cmd->add_option("--view", args->view, "Orthographic view of the renders: top, front, side")
+      ->check(CLI::IsMember({"top", "front", "side"}))
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
+  cmd->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
+  cmd->callback([args, &exit_code]() {
+    const JobOptions job = read_job_manifest(args->eval.run_dir);
+    EvalOptions options = args->eval;
+    // Input settings as the run read the sequence; the pattern (and frames) given here.
+    const std::string pattern = options.input.pattern, frames = options.input.frames;
+    options.input = job.input;
+    options.input.pattern = pattern;
+    if (!frames.empty()) options.input.frames = frames;
+    options.render.view = view_from_string(args->view);
+    options.render.width = 384;
+    TerminalReporter reporter(args->verbosity, args->quiet);
+    const auto threads = limit_threads(args->threads);
+    const EvalSummary summary = run_eval(options, job, reporter);
+    reporter.info("fluidtex eval: " + std::to_string(summary.frames) + " frames; report: " + summary.report);
+    exit_code = 0;
+  });
+}
+
 void add_subcommands(CLI::App& app, int& exit_code) {
   add_preview(app, exit_code);
+  add_eval(app, exit_code);
   add_run(app, exit_code);
   add_info(app, exit_code);
   add_gen(app, exit_code);

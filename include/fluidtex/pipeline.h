@@ -51,6 +51,10 @@ struct JobOptions {
   std::string exemplar;   ///< -e: exemplar image
   int threads = 0;        ///< 0 = all cores
   std::uint64_t seed = 1;
+  /// The effective configuration as TOML (what --print-config prints),
+  /// written to OUT/job.toml when the job starts so that `fluidtex eval`
+  /// (and people) can see how the outputs were made; empty = not written.
+  std::string manifest;
 
   void validate() const;  ///< InputError for any bad option
 };
@@ -67,6 +71,10 @@ std::string state_path(const std::string& dir, int frame);
 /// The exemplar as synthesis uses it: read through OpenImageIO, turned to
 /// one channel (Rec. 709 luminance) for displacement.
 Exemplar load_exemplar(const std::string& path, bool displacement);
+
+/// The synthesis settings of a job: blend, method, and the exemplar scale
+/// and projection tolerance that follow from the resolved tracking lengths.
+SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so);
 
 /// Synthesis of one frame from a tracker's state: atlas, texel map, Eq. 7,
 /// then the atlas image (and AOVs) and the UV mesh written atomically.
