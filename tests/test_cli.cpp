@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "fluidtex/image_io.h"
 #include "fluidtex/scenes.h"
 #include "test_util.h"
 
@@ -157,6 +158,19 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
   ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --frames 2-3 --width 64", &out), 0) << out;
   EXPECT_TRUE(fs::exists(o / "preview" / "frame.0002.png"));
   EXPECT_TRUE(fs::exists(o / "preview" / "frame.0003.png"));
+  // Overlays need the input; with it, a perspective contact sheet of frames 1 and 3.
+  EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --overlay borders", &out), 2);
+  EXPECT_NE(out.find("-i/--input"), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --camera 1,2,3", &out), 2);
+  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --width 40 --height 30 --camera 0,-3,2,0,0,0,35 "
+                             "--overlay borders,states,velocity -i " + q(dir.file("rotation.####.ply")) +
+                             " --sheet 2 --sheet-only",
+                         &out),
+            0)
+      << out;
+  const Image sheet = read_image((o / "preview" / "sheet.png").string());
+  EXPECT_EQ(sheet.width, 2 * 40 + 3 * 4);  // frames 1 and 3 side by side
+  EXPECT_EQ(sheet.height, 30 + 2 * 4);
   // No temporary file is left anywhere.
   for (const auto& e : fs::recursive_directory_iterator(o)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();

@@ -2,12 +2,15 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <oneapi/tbb/global_control.h>
@@ -17,9 +20,12 @@
 #include "fluidtex/exemplar_gen.h"
 #include "fluidtex/image_io.h"
 #include "fluidtex/info.h"
+#include "fluidtex/overlays.h"
 #include "fluidtex/pipeline.h"
 #include "fluidtex/render.h"
 #include "fluidtex/scenes.h"
+#include "fluidtex/sequence.h"
+#include "fluidtex/tracker.h"
 
 namespace fluidtex::cli {
 
@@ -87,13 +93,19 @@ class TerminalReporter : public Reporter {
   std::chrono::steady_clock::time_point start_, last_{};
 };
 
-/// Options every subcommand reading a sequence shares.
-void add_input_options(CLI::App* cmd, InputOptions& in) {
-  cmd->add_option("-i,--input", in.pattern,
-                  "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply")
-      ->required();
-  cmd->add_option("--frames", in.frames, "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)");
-  cmd->add_option("--fps", in.fps, "Frames per second; the frame step is 1/fps")->capture_default_str();
+/// Options every subcommand reading a sequence shares. `preview` reads the
+/// input only for its overlays: -i is optional there and --frames is its own.
+void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
+  CLI::Option* input = cmd->add_option("-i,--input", in.pattern,
+                                       preview ? "The run's input frame pattern (needed by --overlay)"
+                                               : "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply");
+  if (preview) {
+    cmd->add_option("--fps", in.fps, "Frames per second of the input; the frame step is 1/fps")->capture_default_str();
+  } else {
+    input->required();
+    cmd->add_option("--frames", in.frames, "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)");
+    cmd->add_option("--fps", in.fps, "Frames per second; the frame step is 1/fps")->capture_default_str();
+  }
   cmd->add_option("--velocity-attr", in.velocity_attr,
                   "Velocity property names 'a,b,c' or a prefix P (P_x or Px...); default: vx vy vz, "
                   "velocity_x..., v_x...");
@@ -311,12 +323,47 @@ void add_gen(CLI::App& app, int& exit_code) {
   });
 }
 
+/// Parses --camera EX,EY,EZ,TX,TY,TZ[,FOV] into `render`.
+void parse_camera(const std::string& text, RenderOptions& render) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    std::size_t used = 0;
+    double x = 0.0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size() || !std::isfinite(x)) {
+      throw InputError("", "--camera: expected EX,EY,EZ,TX,TY,TZ[,FOV] (numbers), got '" + text + "'");
+    }
+    v.push_back(x);
+    start = comma + 1;
+  }
+  if (v.size() != 6 && v.size() != 7) {
+    throw InputError("", "--camera: expected 6 or 7 numbers EX,EY,EZ,TX,TY,TZ[,FOV], got '" + text + "'");
+  }
+  render.perspective = true;
+  render.eye = Vec3(v[0], v[1], v[2]);
+  render.target = Vec3(v[3], v[4], v[5]);
+  if (v.size() == 7) render.fov_deg = v[6];
+}
+
 }  // namespace
 
 void add_preview(CLI::App& app, int& exit_code) {
   struct PreviewArgs {
-    std::string dir, frames, view = "top", mesh, atlas;
+    std::string dir, frames, view = "top", mesh, atlas, camera;
     RenderOptions render;
+    InputOptions input;
+    std::vector<std::string> overlays;
+    double velocity_scale = 4.0;
+    int arrow_spacing = 24;
+    int sheet = 0;
+    bool sheet_only = false;
   };
   auto args = std::make_shared<PreviewArgs>();
   CLI::App* preview = app.add_subcommand("preview", "Render a finished run's textured frames to PNG (OUT/preview/)");
@@ -325,11 +372,54 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview->add_option("--view", args->view, "Orthographic view along an axis: top, front, side")
       ->check(CLI::IsMember({"top", "front", "side"}))
       ->capture_default_str();
+  preview->add_option("--camera", args->camera,
+                      "Perspective camera EX,EY,EZ,TX,TY,TZ[,FOV]: eye, target, vertical field of view in "
+                      "degrees (default 40); up is +z (+y when looking along z). Replaces --view");
   preview->add_option("--width", args->render.width, "Image width in pixels")->capture_default_str();
+  preview->add_option("--height", args->render.height,
+                      "Image height of the perspective camera (default: width * 3/4; orthographic views "
+                      "follow the framing)");
   preview->add_option("--mesh", args->mesh, "UV mesh pattern (default: RUN/mesh.####.obj)");
   preview->add_option("--atlas", args->atlas, "Atlas pattern (default: RUN/atlas.####.exr)");
+  preview->add_option("--overlay", args->overlays,
+                      "Draw over the frames (comma list, any of): borders = patch boundary edges, one colour per "
+                      "patch; states = disk centres by state: blue fading in, green active, red fading out "
+                      "(too distorted), yellow fading out (too close); velocity = vertex velocity arrows. "
+                      "Needs -i (and RUN/state/ for borders and states)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"borders", "states", "velocity"}))
+      ->group("Overlays");
+  add_input_options(preview, args->input, true);
+  for (const char* name : {"-i", "--fps", "--velocity-attr", "--velocity-from-positions", "--strict"}) {
+    preview->get_option(name)->group("Overlays");
+  }
+  preview->add_option("--velocity-scale", args->velocity_scale,
+                      "Velocity arrows are v * dt * K long (K frames of motion)")
+      ->capture_default_str()
+      ->group("Overlays");
+  preview->add_option("--arrow-spacing", args->arrow_spacing, "Pixels between velocity arrows")
+      ->capture_default_str()
+      ->group("Overlays");
+  preview->add_option("--sheet", args->sheet, "Also write RUN/preview/sheet.png: every K-th rendered frame in a grid")
+      ->group("Contact sheet");
+  preview->add_flag("--sheet-only", args->sheet_only, "Write the contact sheet only, no per-frame PNGs")
+      ->group("Contact sheet");
   preview->callback([args, &exit_code]() {
     args->render.view = view_from_string(args->view);
+    if (!args->camera.empty()) parse_camera(args->camera, args->render);
+    if (args->render.width < 1) throw InputError("", "--width must be at least 1");
+    if (args->render.height < 0) throw InputError("", "--height must be at least 1");
+    if (args->sheet < 0) throw InputError("", "--sheet must be at least 1");
+    if (args->sheet_only && args->sheet == 0) throw InputError("", "--sheet-only needs --sheet K");
+    if (args->arrow_spacing < 1) throw InputError("", "--arrow-spacing must be at least 1");
+    auto wants = [&](const char* name) {
+      return std::find(args->overlays.begin(), args->overlays.end(), name) != args->overlays.end();
+    };
+    const bool borders = wants("borders"), states = wants("states"), velocity = wants("velocity");
+    if (!args->overlays.empty() && args->input.pattern.empty()) {
+      throw InputError("", "--overlay " + args->overlays.front() +
+                               ": needs the run's input sequence (-i/--input PATTERN, as given to run)");
+    }
     InputOptions in;
     in.pattern = args->mesh.empty() ? args->dir + "/mesh.####.obj" : args->mesh;
     in.frames = args->frames;
@@ -337,13 +427,46 @@ void add_preview(CLI::App& app, int& exit_code) {
     const FramePattern atlases(args->atlas.empty() ? args->dir + "/atlas.####.exr" : args->atlas);
     const std::vector<int> frames = in.frames.empty() ? meshes.discover() : parse_frame_range(in.frames);
     if (frames.empty()) throw InputError(in.pattern, "no frame matches this pattern");
+    // The overlays read the input as run did: every frame on disk (central
+    // differences with --velocity-from-positions see the same neighbours).
+    std::optional<Sequence> sequence;
+    if (!args->overlays.empty()) {
+      args->input.validate();
+      sequence.emplace(args->input);
+    }
     const FramePattern out(args->dir + "/preview/frame.####.png");
-    for (int f : frames) {
+    std::vector<Image> sheet;
+    std::vector<std::string> labels;
+    for (std::size_t j = 0; j < frames.size(); ++j) {
+      const int f = frames[j];
       const UVMesh mesh = read_uv_mesh_obj(meshes.path(f));
       const Image atlas = read_image(atlases.path(f));
-      write_image(out.path(f), render_textured(mesh, atlas, args->render));
+      RenderResult r = render(mesh, atlas, args->render);
+      if (sequence) {
+        const auto& found = sequence->frames();
+        const auto it = std::find(found.begin(), found.end(), f);
+        if (it == found.end()) throw InputError(sequence->path_of(f), "input frame not found (needed by --overlay)");
+        auto frame_mesh = std::make_shared<const FrameMesh>(sequence->load(static_cast<std::size_t>(it - found.begin())));
+        Canvas canvas{r.color, r.gbuffer, r.camera, default_depth_bias(frame_mesh->positions)};
+        if (borders || states) {
+          const Tracker tracker = Tracker::load(state_path(args->dir, f), frame_mesh);
+          if (borders) draw_patch_borders(canvas, tracker.patches());
+          if (states) draw_disk_states(canvas, tracker.patches(), std::max(3.0, r.camera.width / 150.0));
+        }
+        if (velocity) draw_velocities(canvas, *frame_mesh, args->velocity_scale / args->input.fps, args->arrow_spacing);
+      }
+      if (!args->sheet_only) write_image(out.path(f), r.color);
+      if (args->sheet > 0 && j % static_cast<std::size_t>(args->sheet) == 0) {
+        sheet.push_back(std::move(r.color));
+        labels.push_back(std::to_string(f));
+      }
     }
-    std::cout << "wrote " << frames.size() << " previews: " << out.pattern() << "\n";
+    if (!args->sheet_only) std::cout << "wrote " << frames.size() << " previews: " << out.pattern() << "\n";
+    if (args->sheet > 0) {
+      const std::string path = args->dir + "/preview/sheet.png";
+      write_image(path, contact_sheet(sheet, labels));
+      std::cout << "wrote contact sheet of " << sheet.size() << " frames: " << path << "\n";
+    }
     exit_code = 0;
   });
 }
