@@ -115,24 +115,28 @@ Vec2 Camera::image_displacement(const Vec3& p, const Vec3& d) const {
   return {b.x() - a.x(), b.y() - a.y()};
 }
 
+RenderOptions framed(const std::vector<Vec3>& positions, const RenderOptions& options) {
+  RenderOptions out = options;
+  if (options.perspective || (options.max_u > options.min_u && options.max_v > options.min_v)) return out;
+  double lo_u = std::numeric_limits<double>::infinity(), lo_v = lo_u, hi_u = -lo_u, hi_v = -lo_u;
+  for (const Vec3& p : positions) {
+    const Vec3 s = axis_project(p, options.view);
+    lo_u = std::min(lo_u, s.x()), hi_u = std::max(hi_u, s.x());
+    lo_v = std::min(lo_v, s.y()), hi_v = std::max(hi_v, s.y());
+  }
+  if (!(hi_u >= lo_u)) return out;
+  const double margin = 0.03 * std::max(hi_u - lo_u, hi_v - lo_v);
+  out.min_u = lo_u - margin, out.max_u = hi_u + margin, out.min_v = lo_v - margin, out.max_v = hi_v + margin;
+  return out;
+}
+
 Camera make_camera(const std::vector<Vec3>& positions, const RenderOptions& options) {
   if (options.perspective) {
     const int height = options.height > 0 ? options.height : std::max(1, options.width * 3 / 4);
     return Camera::perspective_at(options.eye, options.target, options.fov_deg, options.width, height);
   }
-  double lo_u = options.min_u, lo_v = options.min_v, hi_u = options.max_u, hi_v = options.max_v;
-  if (!(hi_u > lo_u) || !(hi_v > lo_v)) {
-    lo_u = lo_v = std::numeric_limits<double>::infinity();
-    hi_u = hi_v = -lo_u;
-    for (const Vec3& p : positions) {
-      const Vec3 s = axis_project(p, options.view);
-      lo_u = std::min(lo_u, s.x()), hi_u = std::max(hi_u, s.x());
-      lo_v = std::min(lo_v, s.y()), hi_v = std::max(hi_v, s.y());
-    }
-    const double margin = 0.03 * std::max(hi_u - lo_u, hi_v - lo_v);
-    lo_u -= margin, hi_u += margin, lo_v -= margin, hi_v += margin;
-  }
-  return Camera::orthographic(options.view, lo_u, lo_v, hi_u, hi_v, options.width);
+  const RenderOptions f = framed(positions, options);
+  return Camera::orthographic(options.view, f.min_u, f.min_v, f.max_u, f.max_v, options.width);
 }
 
 GBuffer rasterize(const std::vector<Vec3>& positions, const std::vector<Tri>& triangles, const Camera& camera) {

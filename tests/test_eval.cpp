@@ -79,6 +79,7 @@ TEST(Eval, OpticalFlowFindsATranslation) {
   EXPECT_GT(e.pixels, 3000u);
   EXPECT_LT(e.endpoint, 0.3);
   EXPECT_LT(e.angular, 5.0);
+  EXPECT_NEAR(e.speed, std::hypot(dx, dy), 1e-9);
   // Against a wrong expectation the error is about the difference.
   for (std::size_t i = 0; i < expected.pixels.size(); i += 2) expected.pixels[i] = -dx;
   EXPECT_GT(optical_flow_error(a, b, expected, mask).endpoint, 3.0);
@@ -164,6 +165,7 @@ TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   EXPECT_LT(value("warp_advected"), 0.5 * value("warp_fixed"));
   EXPECT_LT(value("warp_advected"), 0.5 * value("warp_random"));
   EXPECT_GT(value("ghosting_mean"), 1.0);
+  EXPECT_LT(value("flow_endpoint_px"), 0.5 * value("flow_speed_px"));
   EXPECT_NEAR(value("contrast_g"), 1.0, 0.2);
   const std::string html = test::read_file(out + "/eval/report.html");
   EXPECT_NE(html.find("<svg"), std::string::npos);

@@ -81,6 +81,7 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
 struct FlowError {
   double endpoint = 0.0;  ///< mean |flow − projected velocity|, pixels
   double angular = 0.0;   ///< mean angle between (u, v, 1) vectors, degrees
+  double speed = 0.0;     ///< mean |projected velocity|, pixels: the endpoint error of a texture that does not move
   std::size_t pixels = 0;
 };
 

@@ -82,6 +82,11 @@ struct RenderOptions {
   int height = 0;                ///< perspective image height; 0 = width·3/4
 };
 
+/// `options` with the orthographic framing fixed to the bounds (plus 3%) of
+/// `positions` (unchanged when a framing is given or the camera is a
+/// perspective one): renders of several frames then share one camera.
+RenderOptions framed(const std::vector<Vec3>& positions, const RenderOptions& options);
+
 /// The camera render() uses for `positions` (framing resolved).
 Camera make_camera(const std::vector<Vec3>& positions, const RenderOptions& options);
 
