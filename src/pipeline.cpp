@@ -167,6 +167,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   settings.method = options.tracking;
   settings.advection = options.advection;
   settings.seed = options.seed;
+  settings.coverage_aware = options.coverage_check;
   std::optional<Tracker> tracker;
   std::size_t first = 0;
   JobSummary summary;

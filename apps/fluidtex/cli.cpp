@@ -129,6 +129,7 @@ struct RunArgs {
   std::string blend = "contrast";
   std::string synthesis = "raster";
   bool float_output = false;
+  bool no_coverage_check = false;
   int verbosity = 0;
   bool quiet = false;
   bool print_config = false;
@@ -189,6 +190,10 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
       ->check(CLI::IsMember({"ellipsoid", "sphere", "plane"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
+  run->add_flag("--no-coverage-check", args->no_coverage_check,
+                "Poisson update without the coverage test: a candidate rejected by a disk is never seeded, "
+                "even where no patch covers the surface (the paper's plain dart throwing)")
+      ->group("Method (Tables 3, 4)");
   run->add_option("--fading", args->fading, "Temporal weight: density (Eq. 6, paper) or linear (Eq. 5)")
       ->check(CLI::IsMember({"density", "linear"}))
       ->capture_default_str()
@@ -235,6 +240,7 @@ void finish_run_args(RunArgs& args) {
   args.job.synthesis.blend = blend_from_string(args.blend);
   args.job.synthesis.method = synthesis_from_string(args.synthesis);
   if (args.float_output) args.job.synthesis.depth = PixelDepth::Float;
+  args.job.coverage_check = !args.no_coverage_check;
 }
 
 /// The options a finished run was made with, from its OUT/job.toml.

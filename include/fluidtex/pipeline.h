@@ -47,6 +47,9 @@ struct JobOptions {
   TrackingOptions tracking;
   SynthesisJobOptions synthesis;
   Advection advection = Advection::Heun;  ///< --advection
+  /// Poisson update also seeds where no live patch covers the surface
+  /// (docs/method.md); --no-coverage-check leaves it out (paper's plain test).
+  bool coverage_check = true;
   OutputOptions output;
   std::string exemplar;   ///< -e: exemplar image
   int threads = 0;        ///< 0 = all cores

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The paper's comparisons, reproduced with fluidtex itself (docs/results.md):
+#   - density-based vs linear fading (Fig. 7): patch count, ghosting;
+#   - ellipsoid+plane vs sphere criterion where two surfaces come close
+#     (Figs. 3, 5): coverage (with and without the coverage-aware Poisson test);
+#   - contrast-preserving vs linear blending: contrast, spectrum;
+#   - texture-flow agreement on rotation and split (Figs. 8, 9, 15);
+#   - the patch method vs two-phase advected UVs (`--method flowmap`).
+# Every run is evaluated with `fluidtex eval`; the tables are printed as
+# Markdown. Usage: scripts/compare.sh [OUTDIR]   (FRAMES=40 by default)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-out/compare}
+frames=${FRAMES:-40}
+bin=build/fluidtex
+mkdir -p "$out"
+
+gen() {  # scene resolution
+  [[ -f "$out/$1/$1.0001.ply" ]] || "$bin" gen "$1" -o "$out/$1" --frames "$frames" --resolution "$2" \
+    --exemplar gravel --exemplar-size 256 >/dev/null
+}
+run() {  # name scene [run options...]
+  local name=$1 scene=$2
+  shift 2
+  if [[ ! -f "$out/$name/eval/summary.json" ]]; then
+    "$bin" run -q -i "$out/$scene/$scene.####.ply" -e "$out/$scene/gravel.png" -o "$out/$name" \
+      --atlas-size 1024 "$@"
+    "$bin" eval -q -i "$out/$scene/$scene.####.ply" -o "$out/$name"
+  fi
+}
+
+gen rotation 48
+gen split 64
+gen drop 48
+
+run rotation-patches rotation
+run split-patches split
+run drop-patches drop
+run split-linear-fading split --fading linear
+run drop-linear-fading drop --fading linear
+run drop-sphere drop --criterion sphere
+run drop-plain drop --no-coverage-check
+run drop-sphere-plain drop --criterion sphere --no-coverage-check
+run split-linear-blend split --blend linear
+run rotation-flowmap rotation --method flowmap
+run split-flowmap split --method flowmap
+
+python3 scripts/compare_tables.py "$out"
