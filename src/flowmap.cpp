@@ -100,10 +100,16 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
       const Vec3& x = mesh->positions[v];
       const Vec2 rest = rest_uv(x, axis, tile);
       SurfacePoint s;
+      Vec2 inflow = Vec2::Zero();
       if (advect) {
         // Semi-Lagrangian: the point this vertex came from, on the previous surface.
         const Vec3 vel = v < mesh->velocities.size() ? mesh->velocities[v] : Vec3::Zero();
-        s = surface_->closest_point(x - dt * vel);
+        const Vec3 from = x - dt * vel;
+        s = surface_->closest_point(from);
+        // Traced back beyond the rim of an open surface (inflow): the uv field
+        // is extended past the rim with the rest gradient, so the texture
+        // keeps flowing in instead of streaking from the rim's values.
+        if (s.valid() && surface_->on_boundary(s)) inflow = rest_uv(from, axis, tile) - rest_uv(s.position, axis, tile);
       }
       for (int k = 0; k < 2; ++k) {
         if (report.reset[k] || !s.valid()) {
@@ -112,7 +118,7 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
         }
         const Tri& t = surface_->mesh().triangles[s.face];
         const std::vector<Vec2>& uv = uv_[k];
-        next[k][v] = s.bary[0] * uv[t[0]] + s.bary[1] * uv[t[1]] + s.bary[2] * uv[t[2]];
+        next[k][v] = s.bary[0] * uv[t[0]] + s.bary[1] * uv[t[1]] + s.bary[2] * uv[t[2]] + inflow;
       }
     }
   });

@@ -7,7 +7,9 @@
 /// B. Meshes change topology every frame, so the uvs are carried
 /// semi-Lagrangian: a vertex x of frame t+1 with velocity v is traced back
 /// to x − v·dt, projected onto frame t's surface (closest point), and takes
-/// the barycentric blend of frame t's vertex uvs there. Each phase is reset
+/// the barycentric blend of frame t's vertex uvs there; a point traced back
+/// beyond the rim of an open surface (inflow) extends the field past the rim
+/// with the rest gradient (no streaks at inflow boundaries). Each phase is reset
 /// to the rest parameterisation every N frames (`--flowmap-period`), phase B
 /// half a period after A: the planar projection of the position onto the
 /// plane perpendicular to `--flowmap-axis`, divided by the tile size
