@@ -73,6 +73,12 @@ void JobOptions::validate() const {
   (void)output.atlas();
   (void)output.mesh();
   if (threads < 0) throw InputError("", "--threads must be >= 0 (0 = all cores)");
+  flowmap.validate();
+  if (method == TexturingMethod::FlowMap) {
+    if (output.resume) throw InputError("", "--resume: --method flowmap keeps no state to resume from");
+    if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");
+    if (output.debug_views) throw InputError("", "--debug-views: --method flowmap has no patches or disks to show");
+  }
 }
 
 std::string state_path(const std::string& dir, int frame) {
@@ -115,9 +121,13 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   return synth;
 }
 
-void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
-                      const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
-                      int frame, FrameStats& stats) {
+namespace {
+
+/// A frame's atlas, texel map, texels (`texels(atlas, map)`, either method)
+/// and writes, with the synthesis numbers and stage seconds in `stats`.
+template <class Texels>
+void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats,
+                 Texels&& texels) {
   using Clock = std::chrono::steady_clock;
   auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const SynthesisJobOptions& so = options.synthesis;
@@ -126,8 +136,7 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
   stats.seconds.emplace_back("atlas", seconds_since(t0));
   t0 = Clock::now();
   const TexelMap map = build_texel_map(surface, atlas);
-  const SynthesisOptions synth = synthesis_options(resolved, so);
-  const SynthesisResult result = synthesize(surface, atlas, map, patches, exemplar, synth);
+  const SynthesisResult result = texels(atlas, map);
   const double synth_seconds = seconds_since(t0);
   stats.seconds.emplace_back("synthesis", synth_seconds);
 
@@ -152,6 +161,24 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
   stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);
 }
 
+}  // namespace
+
+void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
+                      const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
+                      int frame, FrameStats& stats) {
+  atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
+    return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
+  });
+}
+
+void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
+                              const JobOptions& options, int frame, FrameStats& stats) {
+  atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
+    return synthesize_flowmap(surface, atlas, map, flow, exemplar, options.synthesis.blend,
+                              !options.synthesis.aov.empty());
+  });
+}
+
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -168,7 +195,10 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   settings.advection = options.advection;
   settings.seed = options.seed;
   settings.coverage_aware = options.coverage_check;
+  const bool flowmap = options.method == TexturingMethod::FlowMap;
+  const bool write_state = options.output.write_state && !flowmap;  // flowmap keeps no state
   std::optional<Tracker> tracker;
+  std::optional<FlowMapAdvector> advector;
   std::size_t first = 0;
   JobSummary summary;
 
@@ -187,7 +217,15 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     }
     if (!tracker) reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
   }
-  if (!tracker) tracker.emplace(settings);
+  if (flowmap) {
+    FlowMapSettings fm;
+    fm.flowmap = options.flowmap;
+    fm.method = options.tracking;
+    fm.seed = options.seed;
+    advector.emplace(fm);
+  } else if (!tracker) {
+    tracker.emplace(settings);
+  }
 
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
   if (!options.manifest.empty()) write_text_atomically(options.output.dir + "/job.toml", options.manifest);
@@ -207,6 +245,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     std::shared_ptr<const SurfaceIndex> surface;
     std::vector<Patch> patches;
     TrackingOptions resolved;
+    FlowMapFrame flow;  // --method flowmap
     std::string state;
   };
   std::size_t next = first;
@@ -224,6 +263,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
             work->index = next++;
             work->frame = sequence.frames()[work->index];
             work->stats.frame = work->frame;
+            work->stats.method = to_string(options.method);
             const auto t0 = Clock::now();
             CleanReport cleaned;
             work->mesh = std::make_shared<const FrameMesh>(sequence.load(work->index, &cleaned));
@@ -240,6 +280,22 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
                 reporter.progress(work->index, sequence.size(), "track");
                 const double dt = previous_frame == -1 ? 1.0 / options.input.fps
                                                        : static_cast<double>(frame - previous_frame) / options.input.fps;
+                if (advector) {
+                  // Flow map: the "track" stage carries the two uv sets to this frame.
+                  const FlowMapStep step = advector->step(work->mesh, dt);
+                  previous_frame = frame;
+                  for (const auto& [stage, secs] : step.seconds) work->stats.seconds.emplace_back(stage, secs);
+                  const std::array<double, 2> w = phase_weights(step.step, options.flowmap.period);
+                  work->stats.extra.emplace_back("weight_a", w[0]);
+                  work->stats.extra.emplace_back("weight_b", w[1]);
+                  if (work->index == first) {
+                    reporter.verbose("flowmap: tile size " + std::to_string(advector->tile_size()) + ", period " +
+                                     std::to_string(options.flowmap.period) + ", axis " + to_string(options.flowmap.axis));
+                  }
+                  work->surface = advector->shared_surface();
+                  work->flow = advector->frame();
+                  return work;
+                }
                 const StepReport step = tracker->step(work->mesh, frame, dt);
                 previous_frame = frame;
                 FrameStats& fs = work->stats;
@@ -265,13 +321,15 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
                 work->surface = tracker->shared_surface();
                 work->patches = tracker->patches();
                 work->resolved = tracker->settings().method;
-                if (options.output.write_state) work->state = tracker->serialize();
+                if (write_state) work->state = tracker->serialize();
                 return work;
               }) &
           tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
               tbb::filter_mode::parallel,
               [&](std::shared_ptr<Work> work) {
-                if (exemplar) {
+                if (flowmap) {
+                  synthesize_flowmap_frame(*work->surface, work->flow, *exemplar, options, work->frame, work->stats);
+                } else if (exemplar) {
                   synthesize_frame(*work->surface, work->patches, work->resolved, *exemplar, options, work->frame,
                                    work->stats);
                 } else {
@@ -287,8 +345,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
               tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> work) {
                 // The state goes last: its presence means the frame is complete (--resume).
                 const auto t0 = Clock::now();
-                if (options.output.write_state) write_text_atomically(state_path(options.output.dir, work->frame), work->state);
-                work->stats.seconds.emplace_back("state", seconds_since(t0));
+                if (write_state) write_text_atomically(state_path(options.output.dir, work->frame), work->state);
+                if (!flowmap) work->stats.seconds.emplace_back("state", seconds_since(t0));
                 stats.add(work->stats);
                 ++summary.frames;
                 reporter.progress(work->index + 1, sequence.size(), "written");

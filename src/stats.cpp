@@ -81,6 +81,10 @@ std::string to_json_line(const FrameStats& stats) {
   std::string out = "{";
   append_key(out, "frame", true);
   append_integer(out, stats.frame);
+  if (!stats.method.empty()) {
+    append_key(out, "method");
+    append_escaped(out, stats.method);
+  }
   append_key(out, "vertices");
   append_integer(out, stats.vertices);
   append_key(out, "faces");

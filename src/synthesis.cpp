@@ -69,7 +69,7 @@ struct Contributor {
     exemplar.sample(p.anchor.x() + lookup_scale * uv.x(), p.anchor.y() + lookup_scale * uv.y(), r);
     const int nc = acc.channels;
     for (int c = 0; c < nc; ++c) {
-      const double centred = options.blend == Blend::ContrastPreserving ? r[c] - exemplar.mean()[c] : r[c];
+      const double centred = blend_term(options.blend, r[c], exemplar.mean()[c]);
       acc.sum[i * nc + c] += w * centred;
     }
     acc.sum_w[i] += w;
@@ -80,6 +80,18 @@ struct Contributor {
 };
 
 }  // namespace
+
+bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
+                   int channels, float* out) {
+  bool out_of_range = false;
+  for (int c = 0; c < channels; ++c) {
+    const double v = blend == Blend::ContrastPreserving ? sum[c] / std::sqrt(sum_w2) + mean[c]  // Eq. 7
+                                                        : sum[c] / sum_w;
+    out_of_range = out_of_range || v < 0.0 || v > 1.0;
+    out[c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
+  }
+  return out_of_range;
+}
 
 TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
   const int n = atlas.size;
@@ -533,15 +545,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
           continue;
         }
-        bool out_of_range = false;
-        for (int c = 0; c < nc; ++c) {
-          const double v = options.blend == Blend::ContrastPreserving
-                               ? acc.sum[j * nc + c] / std::sqrt(acc.sum_w2[j]) + exemplar.mean()[c]  // Eq. 7
-                               : acc.sum[j * nc + c] / acc.sum_w[j];
-          out_of_range = out_of_range || v < 0.0 || v > 1.0;
-          color.pixels[i * nc + c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
-        }
-        t.clamped += out_of_range;
+        t.clamped += resolve_blend(options.blend, &acc.sum[j * nc], acc.sum_w[j], acc.sum_w2[j], exemplar.mean(), nc,
+                                   &color.pixels[i * nc]);
       }
     }
   });

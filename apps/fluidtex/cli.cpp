@@ -128,6 +128,8 @@ struct RunArgs {
   std::string advection = "heun";
   std::string blend = "contrast";
   std::string synthesis = "raster";
+  std::string method = "patches";
+  std::string flowmap_axis = "z";
   bool float_output = false;
   bool no_coverage_check = false;
   int verbosity = 0;
@@ -182,6 +184,20 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
   run->add_flag("--resume", args->job.output.resume, "Continue after the last complete frame in OUT");
   run->add_flag("--debug-views", args->job.output.debug_views,
                 "Write per-frame PLYs of the patches and of the disks coloured by state");
+  run->add_option("--method", args->method,
+                  "patches: Gagnon et al. 2019; flowmap: the two-phase advected-UV baseline (same outputs, no state)")
+      ->check(CLI::IsMember({"patches", "flowmap"}))
+      ->capture_default_str()
+      ->group("Method");
+  run->add_option("--flowmap-period", args->job.flowmap.period,
+                  "flowmap: frames between two resets of a uv phase (>= 2); phase B is offset by half of it")
+      ->capture_default_str()
+      ->group("Method");
+  run->add_option("--flowmap-axis", args->flowmap_axis,
+                  "flowmap: rest uv = position projected along this axis (z: the generated scenes' normal / up axis)")
+      ->check(CLI::IsMember({"x", "y", "z"}))
+      ->capture_default_str()
+      ->group("Method");
   CLI::App* method = run;
   visit_options(args->job.tracking, [&](const char* name, auto& field, const char* help) {
     method->add_option(std::string("--") + name, field, help)->capture_default_str()->group("Method (Tables 3, 4)");
@@ -241,6 +257,8 @@ void finish_run_args(RunArgs& args) {
   args.job.synthesis.method = synthesis_from_string(args.synthesis);
   if (args.float_output) args.job.synthesis.depth = PixelDepth::Float;
   args.job.coverage_check = !args.no_coverage_check;
+  args.job.method = texturing_method_from_string(args.method);
+  args.job.flowmap.axis = axis_from_string(args.flowmap_axis);
 }
 
 /// The options a finished run was made with, from its OUT/job.toml.

@@ -7,6 +7,7 @@
 
 #include "fluidtex/advection.h"
 #include "fluidtex/atlas.h"
+#include "fluidtex/flowmap.h"
 #include "fluidtex/image_io.h"
 #include "fluidtex/synthesis.h"
 #include "fluidtex/options.h"
@@ -44,7 +45,9 @@ struct SynthesisJobOptions {
 
 struct JobOptions {
   InputOptions input;
-  TrackingOptions tracking;
+  TexturingMethod method = TexturingMethod::Patches;  ///< --method
+  FlowMapOptions flowmap;  ///< --flowmap-period, --flowmap-axis (--method flowmap)
+  TrackingOptions tracking;  ///< patches; flowmap takes d, β (tile size) and s from it
   SynthesisJobOptions synthesis;
   Advection advection = Advection::Heun;  ///< --advection
   /// Poisson update also seeds where no live patch covers the surface
@@ -59,7 +62,9 @@ struct JobOptions {
   /// (and people) can see how the outputs were made; empty = not written.
   std::string manifest;
 
-  void validate() const;  ///< InputError for any bad option
+  /// InputError for any bad option, and for options the method does not
+  /// have (flowmap: --resume, --track-only, --debug-views).
+  void validate() const;
 };
 
 struct JobSummary {
@@ -86,7 +91,12 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
                       const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
                       int frame, FrameStats& stats);
 
-/// Runs the job. Throws InputError for bad input (before any output is
+/// The same for the flow-map baseline (flowmap.h): the same atlas, texel
+/// map, writers and stats, the texels from the two advected uv sets.
+void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
+                              const JobOptions& options, int frame, FrameStats& stats);
+
+/// Runs the job (either method). Throws InputError for bad input (before any output is
 /// written when the problem can be seen up front), InternalError otherwise.
 JobSummary run_job(const JobOptions& options, Reporter& reporter);
 

@@ -34,6 +34,7 @@ enum class Stream : std::uint64_t {
   PatchAnchor = 3,
   Exemplar = 4,
   Evaluation = 5,
+  FlowMapAnchor = 6,
 };
 
 inline double uniform(std::uint64_t seed, Stream stream, std::uint64_t a, std::uint64_t b = 0,

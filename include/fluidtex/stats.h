@@ -20,6 +20,7 @@ struct PatchCounts {
 
 struct FrameStats {
   int frame = 0;
+  std::string method;  ///< texturing method ("patches", "flowmap"); omitted when empty
   std::size_t vertices = 0;
   std::size_t faces = 0;
   PatchCounts patches;
@@ -31,7 +32,7 @@ struct FrameStats {
 };
 
 /// One JSON object on one line (no trailing newline), keys in order: frame,
-/// vertices, faces, patches{...}, seconds{... insertion order},
+/// method (when set), vertices, faces, patches{...}, seconds{... insertion order},
 /// uncovered_fraction, then the extra keys. Numbers are locale-independent,
 /// shortest round-trip (std::to_chars); non-finite numbers are written as
 /// null; keys are JSON-escaped.

@@ -18,6 +18,7 @@
 /// contributions in patch order, so the result does not depend on threads.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -68,6 +69,20 @@ struct TexelMap {
   std::vector<std::uint32_t> face_start;  ///< texels of face f: texels[face_start[f] .. face_start[f+1])
   std::vector<std::uint32_t> texels;      ///< texel indices grouped by face, ascending within a face
 };
+
+/// One exemplar sample's term in the per-texel sums: R − R̂ for Eq. 7, R for
+/// linear blending (computed in float, as the sample is).
+inline float blend_term(Blend blend, float sample, float mean) {
+  return blend == Blend::ContrastPreserving ? sample - mean : sample;
+}
+
+/// Resolves one texel from its sums over the blended samples: `sum` holds
+/// Σ w·blend_term per channel, with Σw (> 0) and Σw². Writes Eq. 7,
+/// Σ w(R − R̂) / sqrt(Σw²) + R̂, or linear Σ wR / Σw, clamped to [0,1];
+/// returns true when a channel left [0,1] before clamping. Shared by the
+/// patch synthesis and the flow-map baseline (flowmap.h).
+bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
+                   int channels, float* out);
 
 /// Rasterises the atlas charts: the texel → surface map.
 TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas);
