@@ -5,7 +5,8 @@
 #     (Figs. 3, 5): coverage (with and without the coverage-aware Poisson test);
 #   - contrast-preserving vs linear blending: contrast, spectrum;
 #   - texture-flow agreement on rotation and split (Figs. 8, 9, 15);
-#   - the patch method vs two-phase advected UVs (`--method flowmap`).
+#   - the patch method vs two-phase advected UVs (`--method flowmap`);
+# and evaluates the default run of every generated scene.
 # Every run is evaluated with `fluidtex eval`; the tables are printed as
 # Markdown. Usage: scripts/compare.sh [OUTDIR]   (FRAMES=40 by default)
 set -euo pipefail
@@ -32,10 +33,12 @@ run() {  # name scene [run options...]
 gen rotation 48
 gen split 64
 gen drop 48
+gen merge 64
 
 run rotation-patches rotation
 run split-patches split
 run drop-patches drop
+run merge-patches merge
 run split-linear-fading split --fading linear
 run drop-linear-fading drop --fading linear
 run drop-sphere drop --criterion sphere

@@ -38,6 +38,12 @@ def table(out, title, rows, columns):
 
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/compare"
+    table(out, "Every generated scene, default settings",
+          ["rotation-patches", "split-patches", "merge-patches", "drop-patches"],
+          [("patches", "patches"), ("uncovered area", "uncovered_area_mean"), ("uncovered texels", "uncovered_texels_mean"),
+           ("ghosting mean", "ghosting_mean"), ("D_T median", "distortion_median"), ("D_T p95", "distortion_p95"),
+           ("Q_V < 0.5", "quality_below_half"), ("warp: advected", "warp_advected"), ("warp: random", "warp_random"),
+           ("flow EPE px", "flow_endpoint_px"), ("|v| px", "flow_speed_px")])
     table(out, "Density-based vs linear fading (Fig. 7)",
           ["split-patches", "split-linear-fading", "drop-patches", "drop-linear-fading"],
           [("patches", "patches"), ("fading out (close)", "fading_out_close"),

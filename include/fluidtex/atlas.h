@@ -9,8 +9,10 @@
 /// (disk_region.h) and bounded in size; each chart is flattened with LSCM
 /// (metric: uv area = 3D area), turned to its principal axes, scaled to one
 /// common texel density (world units per texel, so detail is even across the
-/// surface) and packed on shelves into a square of `size` texels with a
-/// gutter between charts. The density is the largest that fits.
+/// surface) and packed by shape (a horizon per column of cells, four
+/// rotations: Lévy et al. 2002, Sec. 5) into a square of `size` texels with a
+/// gutter between charts. Charts covering less than `min_fill` of their
+/// bounding box are cut smaller first. The density is the largest that fits.
 #pragma once
 
 #include <array>
