@@ -169,10 +169,12 @@ Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale
 }
 
 TexturedFrame::TexturedFrame(UVMesh m, Image a) : mesh(std::move(m)), atlas(std::move(a)) {
-  geometry.positions = mesh.positions;
-  geometry.triangles = mesh.triangles;
-  geometry.velocities.assign(mesh.positions.size(), Vec3::Zero());
-  surface = std::make_unique<SurfaceIndex>(geometry);
+  auto g = std::make_unique<FrameMesh>();
+  g->positions = mesh.positions;
+  g->triangles = mesh.triangles;
+  g->velocities.assign(mesh.positions.size(), Vec3::Zero());
+  geometry = std::move(g);  // on the heap: the index keeps its address when the frame is moved
+  surface = std::make_unique<SurfaceIndex>(*geometry);
 }
 
 void TexturedFrame::color_at(const Vec3& p, float* out) const {
@@ -220,7 +222,7 @@ Vec3 point_of(const FrameMesh& mesh, int f, const Vec3& bary, const std::vector<
 WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
                            const Exemplar& exemplar, int samples, std::uint64_t seed) {
   const auto points = surface_samples(mesh, samples, seed, 1);
-  const auto others = surface_samples(at_next.geometry, samples, seed, 2);
+  const auto others = surface_samples(*at_next.geometry, samples, seed, 2);
   WarpingError out;
   const int nc = std::min(at_t.atlas.channels, at_next.atlas.channels);
   double sigma = 0.0;
@@ -236,7 +238,7 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
     at_next.color_at(p + v * dt, c1);
     at_next.color_at(p, c2);
     const auto& [g, gb] = others[i];
-    at_next.color_at(point_of(at_next.geometry, g, gb, at_next.geometry.positions), c3);
+    at_next.color_at(point_of(*at_next.geometry, g, gb, at_next.geometry->positions), c3);
     for (int c = 0; c < nc; ++c) {
       err[i][0] += std::abs(c1[c] - c0[c]) / nc;
       err[i][1] += std::abs(c2[c] - c0[c]) / nc;

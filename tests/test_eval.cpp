@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "fluidtex/error.h"
 #include "fluidtex/eval.h"
@@ -44,7 +45,10 @@ TEST(Eval, WarpingErrorIsZeroForAnAdvectedTextureAndLargeForARandomOne) {
   FrameMesh mesh = test::flat_grid(10, 1.0, 0.0, 0.0, 0.0);
   mesh.velocities.assign(mesh.positions.size(), Vec3(speed, 0.0, 0.0));
   const TexturedFrame t0(moving_grid(10, 0.0), exemplar.image());
-  const TexturedFrame t1(moving_grid(10, speed * dt), exemplar.image());
+  std::optional<TexturedFrame> moved;  // frames are moved around by eval: the index must follow
+  moved.emplace(TexturedFrame(moving_grid(10, speed * dt), exemplar.image()));
+  const TexturedFrame t1(std::move(*moved));
+  moved.reset();
   const WarpingError w = warping_error(mesh, t0, t1, dt, exemplar, 4000, 7);
   EXPECT_EQ(w.samples, 4000u);
   EXPECT_LT(w.advected, 1e-3);   // exactly advected, no distortion

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,8 +56,8 @@ Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale
 struct TexturedFrame {
   UVMesh mesh;
   Image atlas;
+  std::unique_ptr<const FrameMesh> geometry;  ///< mesh positions/triangles (what `surface` indexes)
   std::unique_ptr<SurfaceIndex> surface;
-  FrameMesh geometry;  ///< mesh positions/triangles (what `surface` indexes)
 
   TexturedFrame(UVMesh m, Image a);
   /// Colour of the surface point nearest to `p` (atlas lookup at its uv).
