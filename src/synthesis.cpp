@@ -254,7 +254,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     tri_rim.assign(tri_px_base.back(), 0);
     // Faces touching (by a vertex) a face of another chart. A patch triangle
     // with a corner over one of them may reach into the other chart, which
-    // its atlas corners in one chart cannot show: it goes the exact way.
+    // its atlas corners in one chart cannot show: unless its atlas box shows
+    // it inside its chart, it goes the exact way.
     const FrameMesh& mesh = surface.mesh();
     std::vector<int> vertex_chart(mesh.positions.size(), -1);
     std::vector<char> mixed(mesh.positions.size(), 0);
@@ -306,19 +307,39 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
         const Tri& tri = patch.triangles[t];
         if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
         const int c0 = atlas.face_chart[patch.projections[tri[0]].face];
-        bool one_chart = true;
+        bool one_chart = true, near_border = false;
         for (int k = 0; k < 3; ++k) {
           const int f = patch.projections[tri[k]].face;
-          one_chart = one_chart && atlas.face_chart[f] == c0 && !chart_border[f];
+          one_chart = one_chart && atlas.face_chart[f] == c0;
+          near_border = near_border || chart_border[f];
         }
+        auto& px = tri_px[tri_px_base[p] + t];
+        Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
         if (one_chart) {
-          auto& px = tri_px[tri_px_base[p] + t];
           for (int k = 0; k < 3; ++k) {
             const SurfacePoint& s = patch.projections[tri[k]];
             const auto& corner = atlas.corner_px[s.face];
             px[k] = s.bary[0] * corner[0] + s.bary[1] * corner[1] + s.bary[2] * corner[2];
           }
-          const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+          lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+        }
+        if (one_chart && near_border) {
+          // Corners in one chart next to another: the triangle stays in its
+          // chart when every texel of its box (grown by a texel and the rim
+          // slack) belongs to that chart; if it crosses the chart's border,
+          // its atlas box reaches the gutter.
+          const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad - 1);
+          const int x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad + 1);
+          const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad - 1);
+          const int y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad + 1);
+          for (int y = y0; y <= y1 && one_chart; ++y) {
+            for (int x = x0; x <= x1 && one_chart; ++x) {
+              const int f = map.face[static_cast<std::size_t>(y) * n + x];
+              one_chart = f >= 0 && atlas.face_chart[f] == c0;
+            }
+          }
+        }
+        if (one_chart) {
           place_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad,
                     static_cast<int>(std::floor(lo.y() - 0.5)) - pad, static_cast<int>(std::ceil(hi.x())) + pad,
                     static_cast<int>(std::ceil(hi.y())) + pad);
