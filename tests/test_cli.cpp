@@ -204,5 +204,29 @@ TEST(Cli, SameOutputForOneAndTwoThreads) {
   }
 }
 
+TEST(Cli, CoverageCheckFillsTheHolesThePlainPoissonUpdateLeaves) {
+  // The merge outline grows faster than patches follow: the plain Poisson
+  // update (--no-coverage-check) leaves bare surface, the default fills it.
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen merge -o " + q(dir.str()) + " --frames 12 --resolution 32", &out), 0) << out;
+  auto worst_uncovered = [&](const std::string& name, const std::string& flags) {
+    EXPECT_EQ(run_fluidtex("run -q --track-only -i " + q(dir.file("merge.####.ply")) + " -o " + q(dir.file(name)) + flags,
+                           &out),
+              0)
+        << out;
+    const std::string stats = test::read_file(dir.path() / name / "stats.jsonl");
+    double worst = 0.0;
+    const std::string key = "\"uncovered_fraction\":";
+    for (std::size_t at = stats.find(key); at != std::string::npos; at = stats.find(key, at + 1)) {
+      worst = std::max(worst, std::stod(stats.substr(at + key.size())));
+    }
+    EXPECT_NE(stats.find("\"frame\":12"), std::string::npos);
+    return worst;
+  };
+  EXPECT_EQ(worst_uncovered("checked", ""), 0.0);
+  EXPECT_GT(worst_uncovered("plain", " --no-coverage-check"), 1e-3);
+}
+
 }  // namespace
 }  // namespace fluidtex
