@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include <OpenImageIO/color.h>
 #include <OpenImageIO/strutil.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <opencv2/core.hpp>
@@ -264,8 +265,8 @@ FlowError optical_flow_error(const Image& a, const Image& b, const Image& expect
     for (int y = 0; y < im.height; ++y) {
       for (int x = 0; x < im.width; ++x) {
         const double l = luminance(im, static_cast<std::size_t>(y) * im.width + x);
-        // sRGB-like encoding: the flow sees the contrast a viewer sees.
-        const double e = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(std::max(l, 0.0), 1.0 / 2.4) - 0.055;
+        // sRGB-encoded: the flow sees the contrast a viewer sees.
+        const double e = OIIO::linear_to_sRGB(static_cast<float>(std::max(l, 0.0)));
         out.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(e * 255.0 + 0.5, 0.0, 255.0));
       }
     }
