@@ -398,13 +398,6 @@ std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, in
   return out;
 }
 
-double bbox_diagonal(const FrameMesh& mesh) {
-  if (mesh.positions.empty()) return 0.0;
-  Vec3 lo = mesh.positions[0], hi = lo;
-  for (const Vec3& p : mesh.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  return (hi - lo).norm();
-}
-
 /// Texels per scene unit of a UV mesh in a size² atlas (area ratio).
 double texel_density(const UVMesh& mesh, int size) {
   double a3 = 0.0, a2 = 0.0;
@@ -570,7 +563,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       row.emplace_back("distortion_max", distortion.empty() ? std::nan("") : *std::max_element(distortion.begin(), distortion.end()));
       row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
     }
-    if (!resolved) resolved = job.tracking.resolved(bbox_diagonal(*mesh));
+    if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
 
     // Contrast and spectrum of the atlas written by the run.
     const std::vector<char> mask = chart_mask(current.mesh, current.atlas.width);

@@ -6,11 +6,13 @@
 
 namespace fluidtex {
 
-BBox bounding_box(const FrameMesh& mesh) {
+BBox bounding_box(const FrameMesh& mesh) { return bounding_box(mesh.positions); }
+
+BBox bounding_box(const std::vector<Vec3>& positions) {
   BBox box;
-  if (mesh.positions.empty()) return box;
-  box.min = box.max = mesh.positions.front();
-  for (const Vec3& p : mesh.positions) {
+  if (positions.empty()) return box;
+  box.min = box.max = positions.front();
+  for (const Vec3& p : positions) {
     box.min = box.min.cwiseMin(p);
     box.max = box.max.cwiseMax(p);
   }

@@ -21,10 +21,7 @@ std::array<unsigned char, 3> state_color(DiskState state) {
 }
 
 double default_depth_bias(const std::vector<Vec3>& positions) {
-  if (positions.empty()) return 1e-9;
-  Vec3 lo = positions.front(), hi = positions.front();
-  for (const Vec3& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  return std::max(1e-9, 0.005 * (hi - lo).norm());
+  return std::max(1e-9, 0.005 * bounding_box(positions).diagonal());
 }
 
 void draw_patch_borders(Canvas& canvas, const std::vector<Patch>& patches) {

@@ -39,6 +39,7 @@ struct BBox {
 
 /// Axis-aligned bounding box of the positions (all zeros for an empty mesh).
 BBox bounding_box(const FrameMesh& mesh);
+BBox bounding_box(const std::vector<Vec3>& positions);
 
 /// Unnormalised face normal (twice the area times the unit normal).
 Vec3 face_area_normal(const FrameMesh& mesh, std::size_t face);
