@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
-#include <utility>
 
 #include "fluidtex/debug_views.h"
 
@@ -26,17 +24,15 @@ double default_depth_bias(const std::vector<Vec3>& positions) {
 
 void draw_patch_borders(Canvas& canvas, const std::vector<Patch>& patches) {
   for (const Patch& patch : patches) {
-    // Edges used by exactly one triangle, in a deterministic order.
-    std::map<std::pair<int, int>, int> uses;
-    for (const Tri& t : patch.triangles) {
-      for (int k = 0; k < 3; ++k) {
-        const int a = t[k], b = t[(k + 1) % 3];
-        ++uses[{std::min(a, b), std::max(a, b)}];
-      }
-    }
+    // Edges used by exactly one triangle, in triangle order.
+    const std::vector<std::uint8_t> bits = boundary_edge_bits(patch.triangles);
     const LinearRgb color = rgb_from_srgb8(id_color(patch.id));
-    for (const auto& [edge, count] : uses) {
-      if (count == 1) canvas.line(patch.positions[edge.first], patch.positions[edge.second], color);
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        if (!(bits[t] & (1u << k))) continue;
+        const int a = patch.triangles[t][k], b = patch.triangles[t][(k + 1) % 3];
+        canvas.line(patch.positions[std::min(a, b)], patch.positions[std::max(a, b)], color);
+      }
     }
   }
 }

@@ -4,33 +4,41 @@
 
 namespace fluidtex {
 
-void update_border(Patch& patch, const SurfaceIndex& surface) {
-  struct Edge {
-    int a, b;
-  };
-  std::vector<Edge> edges;
-  edges.reserve(3 * patch.triangles.size());
-  for (const Tri& t : patch.triangles) {
+std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles) {
+  std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·triangle + corner)
+  edges.reserve(3 * triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      edges.push_back({std::min(a, b), std::max(a, b)});
+      const auto a = static_cast<std::uint32_t>(triangles[t][k]), b = static_cast<std::uint32_t>(triangles[t][(k + 1) % 3]);
+      edges.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k);
     }
   }
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint8_t> bits(triangles.size(), 0);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const bool alone = (e == 0 || edges[e - 1].first != edges[e].first) &&
+                       (e + 1 == edges.size() || edges[e + 1].first != edges[e].first);
+    if (alone) bits[edges[e].second / 3] |= static_cast<std::uint8_t>(1u << (edges[e].second % 3));
+  }
+  return bits;
+}
+
+void update_border(Patch& patch, const SurfaceIndex& surface) {
   patch.border.assign(patch.positions.size(), 0);
   // Rim points that moved a hair inside (along a curved rim drawn with
   // chords) still count as on the rim.
   double rest_edges = 0.0;
   for (const RestTriangle& r : patch.rest) rest_edges += (r[1] - r[0]).norm();
   const double rim_tolerance = patch.rest.empty() ? 0.0 : 0.05 * rest_edges / static_cast<double>(patch.rest.size());
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
-    const int a = edges[i].a, b = edges[i].b;
-    const bool rim = surface.on_boundary(patch.projections[a], rim_tolerance) &&
-                     surface.on_boundary(patch.projections[b], rim_tolerance);
-    if (j - i == 1 && !rim) patch.border[a] = patch.border[b] = 1;
-    i = j;
+  const std::vector<std::uint8_t> bits = boundary_edge_bits(patch.triangles);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(bits[t] & (1u << k))) continue;
+      const int a = patch.triangles[t][k], b = patch.triangles[t][(k + 1) % 3];
+      const bool rim = surface.on_boundary(patch.projections[a], rim_tolerance) &&
+                       surface.on_boundary(patch.projections[b], rim_tolerance);
+      if (!rim) patch.border[a] = patch.border[b] = 1;
+    }
   }
 }
 

@@ -281,20 +281,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
       const Patch& patch = patches[p];
       Bins& out = bins[p];
-      std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·tri + k)
-      for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-        for (int k = 0; k < 3; ++k) {
-          const auto a = static_cast<std::uint32_t>(patch.triangles[t][k]);
-          const auto b = static_cast<std::uint32_t>(patch.triangles[t][(k + 1) % 3]);
-          edges.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k);
-        }
-      }
-      std::sort(edges.begin(), edges.end());
-      for (std::size_t e = 0; e < edges.size(); ++e) {
-        const bool alone = (e == 0 || edges[e - 1].first != edges[e].first) &&
-                           (e + 1 == edges.size() || edges[e + 1].first != edges[e].first);
-        if (alone) tri_rim[tri_px_base[p] + edges[e].second / 3] |= static_cast<std::uint8_t>(1u << (edges[e].second % 3));
-      }
+      const std::vector<std::uint8_t> rim_bits = boundary_edge_bits(patch.triangles);
+      std::copy(rim_bits.begin(), rim_bits.end(), tri_rim.begin() + static_cast<std::ptrdiff_t>(tri_px_base[p]));
       if (!(patch.kt > 0.0)) return;
       auto place_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
         x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);

@@ -43,6 +43,10 @@ struct Patch {
   bool empty() const { return triangles.empty(); }
 };
 
+/// Per triangle, bit k is set when its edge from corner k to corner k+1 is
+/// used by no other triangle (a boundary edge of the triangle list).
+std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles);
+
 /// Recomputes `border` (d_V = 0): vertices on an edge used by exactly one
 /// patch triangle, except edges lying along an open boundary of `surface`
 /// itself (both ends projected on the rim). Departure from the paper: d_V
