@@ -41,18 +41,11 @@ Vec3 view_dir(View view) {  // towards the camera
   return {0, 0, 1};
 }
 
-void sample_bilinear(const Image& im, double u, double v, float out[3]) {
-  const double x = std::clamp(u, 0.0, 1.0) * im.width - 0.5, y = (1.0 - std::clamp(v, 0.0, 1.0)) * im.height - 0.5;
-  const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, im.width - 1);
-  const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, im.height - 1);
-  const int x1 = std::min(x0 + 1, im.width - 1), y1 = std::min(y0 + 1, im.height - 1);
-  const double tx = std::clamp(x - x0, 0.0, 1.0), ty = std::clamp(y - y0, 0.0, 1.0);
-  for (int c = 0; c < 3; ++c) {
-    const int ch = std::min(c, im.channels - 1);
-    const double a = im.at(x0, y0, ch) * (1 - tx) + im.at(x1, y0, ch) * tx;
-    const double b = im.at(x0, y1, ch) * (1 - tx) + im.at(x1, y1, ch) * tx;
-    out[c] = static_cast<float>(a * (1 - ty) + b * ty);
-  }
+/// The atlas at uv (v up, clamped to [0,1]²) as RGB (grey repeated).
+void sample_uv(const Image& im, double u, double v, float out[3]) {
+  float px[3] = {0, 0, 0};
+  sample_bilinear(im, std::clamp(u, 0.0, 1.0) * im.width, (1.0 - std::clamp(v, 0.0, 1.0)) * im.height, px, 3);
+  for (int c = 0; c < 3; ++c) out[c] = px[std::min(c, im.channels - 1)];
 }
 
 constexpr float kBackground = 0.12f;
@@ -212,7 +205,7 @@ RenderResult render(const UVMesh& mesh, const Image& atlas, const RenderOptions&
     const Tri& ut = mesh.uv_triangles[f];
     const Vec2 uv = l0 * mesh.uvs[ut[0]] + l1 * mesh.uvs[ut[1]] + l2 * mesh.uvs[ut[2]];
     float rgb[3];
-    sample_bilinear(atlas, uv.x(), uv.y(), rgb);
+    sample_uv(atlas, uv.x(), uv.y(), rgb);
     double shade = 1.0;
     if (options.shade && !mesh.normals.empty()) {
       const Tri& t = mesh.triangles[f];

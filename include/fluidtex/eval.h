@@ -26,10 +26,6 @@
 
 namespace fluidtex {
 
-/// Bilinear lookup of `image` at texel coordinates (x right, y down, texel
-/// centres at +0.5), clamped at the border; writes image.channels values.
-void sample_bilinear(const Image& image, double x, double y, float* out);
-
 /// Texels of a `size`² atlas covered by the uv triangles of `mesh` (texel
 /// centre inside a uv triangle): the chart texels.
 std::vector<char> chart_mask(const UVMesh& mesh, int size);

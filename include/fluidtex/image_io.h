@@ -36,6 +36,11 @@ struct Image {
   bool empty() const { return pixels.empty(); }
 };
 
+/// Bilinear lookup of `image` at texel coordinates (x right, y down, texel
+/// centres at +0.5), clamped at the border; writes the first `channels`
+/// values (0: all image.channels).
+void sample_bilinear(const Image& image, double x, double y, float* out, int channels = 0);
+
 /// Reads subimage 0 of an image; throws InputError(path, "cannot read image:
 /// <reason>") (one line) when the file is missing, unreadable, truncated or
 /// not an image.
