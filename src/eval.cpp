@@ -27,6 +27,7 @@
 #include "fluidtex/patch_locator.h"
 #include "fluidtex/random.h"
 #include "fluidtex/sequence.h"
+#include "fluidtex/stats.h"
 #include "fluidtex/surface.h"
 #include "fluidtex/synthesis.h"
 #include "fluidtex/tracker.h"
@@ -295,17 +296,12 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
+/// A number for people (charts, the report's table): 6 significant digits.
 std::string number(double v) {
-  if (!std::isfinite(v)) return "null";
+  if (!std::isfinite(v)) return "–";
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
-}
-
-std::string json_object(const Row& row) {
-  std::string s = "{";
-  for (std::size_t k = 0; k < row.size(); ++k) s += (k ? "," : "") + ("\"" + row[k].first + "\":") + number(row[k].second);
-  return s + "}";
 }
 
 double get(const Row& row, const std::string& key) {
@@ -605,7 +601,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
 
   // Outputs: per-frame lines, a summary (means over the frames measured), the report.
   std::string lines;
-  for (const Row& r : rows) lines += json_object(r) + "\n";
+  for (const Row& r : rows) lines += to_json_object(r) + "\n";
   write_text_atomically(dir + "/metrics.jsonl", lines);
   Row summary{{"frames", static_cast<double>(rows.size())}};
   std::vector<std::string> keys;
@@ -625,7 +621,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   }
   summary.emplace_back("patch_lifetime_mean",
                        lifetimes.empty() ? std::nan("") : std::accumulate(lifetimes.begin(), lifetimes.end(), 0.0) / lifetimes.size());
-  write_text_atomically(dir + "/summary.json", json_object(summary) + "\n");
+  write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
 
   std::ostringstream html;
   html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << options.run_dir

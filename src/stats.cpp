@@ -77,6 +77,15 @@ bool frame_of_line(const std::string& line, int* frame) {
 
 }  // namespace
 
+std::string to_json_object(const std::vector<std::pair<std::string, double>>& values) {
+  std::string out = "{";
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    append_key(out, values[k].first, k == 0);
+    append_number(out, values[k].second);
+  }
+  return out + "}";
+}
+
 std::string to_json_line(const FrameStats& stats) {
   std::string out = "{";
   append_key(out, "frame", true);

@@ -38,6 +38,10 @@ struct FrameStats {
 /// null; keys are JSON-escaped.
 std::string to_json_line(const FrameStats& stats);
 
+/// A flat JSON object of numbers, keys in the given order, formatted as
+/// to_json_line formats them (non-finite numbers as null).
+std::string to_json_object(const std::vector<std::pair<std::string, double>>& values);
+
 /// Accumulates lines and keeps `path` up to date.
 class StatsWriter {
  public:
