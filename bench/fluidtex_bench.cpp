@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--no-exact")) exact = false;
     else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) only = argv[++i];
-    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) thread_counts = {std::atoi(argv[++i])};
+    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc && std::atoi(argv[i + 1]) > 0) thread_counts = {std::atoi(argv[++i])};
     else {
       std::fprintf(stderr, "usage: fluidtex_bench [--quick] [--no-exact] [--case split|dambreak|drop] [--threads N]\n");
       return 2;
