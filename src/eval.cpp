@@ -470,7 +470,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   std::set<std::uint32_t> previous_ids;
   bool have_previous_state = false;
   std::optional<TexturedFrame> previous;
-  FrameMesh previous_mesh;
+  std::shared_ptr<const FrameMesh> previous_mesh;
   std::vector<std::string> images;
   const int image_every = std::max<int>(1, static_cast<int>(sequence.size()) / std::max(1, options.report_images));
 
@@ -576,12 +576,12 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
 
     // Texture–flow agreement with the previous frame.
     if (previous) {
-      const WarpingError w = warping_error(previous_mesh, *previous, current, dt, exemplar, options.samples, options.seed + frame);
+      const WarpingError w = warping_error(*previous_mesh, *previous, current, dt, exemplar, options.samples, options.seed + frame);
       row.emplace_back("warp_advected", w.advected);
       row.emplace_back("warp_fixed", w.fixed);
       row.emplace_back("warp_random", w.random);
       if (options.flow_width > 0) {
-        const FlowError f = flow_against_velocity(previous_mesh, *previous, current, dt, options);
+        const FlowError f = flow_against_velocity(*previous_mesh, *previous, current, dt, options);
         row.emplace_back("flow_endpoint_px", f.pixels ? f.endpoint : std::nan(""));
         row.emplace_back("flow_angular_deg", f.pixels ? f.angular : std::nan(""));
         row.emplace_back("flow_speed_px", f.pixels ? f.speed : std::nan(""));
@@ -595,7 +595,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     }
     rows.push_back(std::move(row));
     previous.emplace(std::move(current));
-    previous_mesh = *mesh;
+    previous_mesh = mesh;
   }
   for (const auto& [id, first] : born) lifetimes.push_back(sequence.frames().back() - first + 1);  // still alive: censored
 
