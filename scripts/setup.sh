@@ -4,16 +4,22 @@
 # and the build is incremental.
 #   scripts/setup.sh            install + build
 #   SKIP_APT=1 scripts/setup.sh build only
+#   scripts/setup.sh --list     print the package list (one per line) and stop
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
-  libopenimageio-dev libopenexr-dev libopencv-dev libopencv-video-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev libopencv-video-dev
   libopenvdb-dev libboost-iostreams-dev
-  libgtest-dev
+  libgtest-dev libgmock-dev
 )
+
+if [[ "${1:-}" == --list ]]; then
+  printf '%s\n' "${PACKAGES[@]}"
+  exit 0
+fi
 
 if [[ "${SKIP_APT:-0}" != 1 ]]; then
   missing=()
