@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
+
 #include "fluidtex/error.h"
 
 namespace fluidtex {
@@ -15,18 +17,77 @@ Advection advection_from_string(const std::string& s) {
   throw InputError("", "--advection must be euler or heun (got '" + s + "')");
 }
 
-SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,
-                          double dt, Advection scheme) {
+const char* to_string(PatchMotion m) { return m == PatchMotion::Vertex ? "vertex" : "smooth"; }
+
+PatchMotion patch_motion_from_string(const std::string& s) {
+  if (s == "vertex") return PatchMotion::Vertex;
+  if (s == "smooth") return PatchMotion::Smooth;
+  throw InputError("", "--patch-motion must be smooth or vertex (got '" + s + "')");
+}
+
+Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                   Advection scheme) {
   const Vec3 v0 = previous.velocity_at(from);
   const Vec3 guess = from.position + v0 * dt;
-  SurfacePoint to = next.closest_point(guess);
-  if (scheme == Advection::Heun && to.valid()) {
-    const Vec3 v1 = next.velocity_at(to);
-    const Vec3 target = from.position + 0.5 * (v0 + v1) * dt;
-    to = next.closest_point(target);
-    to.distance = (to.position - target).norm();
-  }
+  if (scheme != Advection::Heun) return guess;
+  const SurfacePoint at = next.closest_point(guess);
+  if (!at.valid()) return guess;
+  return from.position + 0.5 * (v0 + next.velocity_at(at)) * dt;
+}
+
+SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,
+                          double dt, Advection scheme) {
+  const Vec3 target = advect_target(from, previous, next, dt, scheme);
+  SurfacePoint to = next.closest_point(target);
+  to.distance = (to.position - target).norm();
   return to;
+}
+
+namespace {
+
+Eigen::Matrix<double, 6, 1> quadratic_basis(const Vec2& uv, double scale) {
+  const double u = uv.x() / scale, v = uv.y() / scale;
+  Eigen::Matrix<double, 6, 1> b;
+  b << 1.0, u, v, u * u, u * v, v * v;
+  return b;
+}
+
+}  // namespace
+
+Vec3 SmoothMap::operator()(const Vec2& uv) const { return coefficients.transpose() * quadratic_basis(uv, scale); }
+
+bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, double scale, SmoothMap& map) {
+  const std::size_t nv = patch.uvs.size();
+  std::vector<double> area(nv, 0.0);
+  for (const Tri& t : patch.triangles) {
+    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
+    const double a = std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / 6.0;
+    for (int v : t) area[v] += a;
+  }
+  // Normal equations of the weighted fit; the affine terms come first, so
+  // the leading 3×3 block is the affine fit's.
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 3> atb = Eigen::Matrix<double, 6, 3>::Zero();
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!(area[v] > 0.0)) continue;
+    const Eigen::Matrix<double, 6, 1> b = quadratic_basis(patch.uvs[v], scale);
+    ata.noalias() += area[v] * b * b.transpose();
+    atb.noalias() += area[v] * b * targets[v].transpose();
+  }
+  map = SmoothMap{};
+  map.scale = scale;
+  // Accept a fit only when its normal matrix is well conditioned (the uv
+  // spread is a fair share of d in every direction the terms need).
+  auto solve = [&](int n) {
+    const Eigen::MatrixXd m = ata.topLeftCorner(n, n);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
+    if (eig.info() != Eigen::Success || !(eig.eigenvalues()(0) > 1e-6 * eig.eigenvalues()(n - 1))) return false;
+    map.coefficients.topRows(n) = m.ldlt().solve(atb.topRows(n));
+    return map.coefficients.allFinite();
+  };
+  if (solve(6)) return true;
+  map.coefficients.setZero();
+  return solve(3);
 }
 
 namespace {
@@ -42,16 +103,39 @@ bool left_through_rim(const SurfacePoint& p, const SurfaceIndex& surface, double
 }  // namespace
 
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
-                          double max_projection, double radius, Advection scheme) {
-  const SurfacePoint centre = advect_point(patch.center.point, previous, next, dt, scheme);
-  if (!centre.valid() || centre.distance > max_projection) return AdvectResult::Lost;
+                          double max_projection, double radius, Advection scheme, PatchMotion motion) {
+  const std::size_t nv = patch.positions.size();
+  std::vector<Vec3> targets(nv);
+  for (std::size_t v = 0; v < nv; ++v) targets[v] = advect_target(patch.projections[v], previous, next, dt, scheme);
+  Vec3 centre_target;
+  SmoothMap map;
+  std::vector<Vec3> raw;  // the vertices' own targets, when the map replaces them
+  if (motion == PatchMotion::Smooth && fit_smooth_map(patch, targets, radius, map)) {
+    raw = targets;
+    for (std::size_t v = 0; v < nv; ++v) targets[v] = map(patch.uvs[v]);
+    centre_target = map(Vec2::Zero());
+  } else {
+    centre_target = advect_target(patch.center.point, previous, next, dt, scheme);
+  }
+  auto project = [&](const Vec3& target) {
+    SurfacePoint to = next.closest_point(target);
+    to.distance = (to.position - target).norm();
+    return to;
+  };
+  const SurfacePoint centre = project(centre_target);
+  if (!centre.valid() || centre.distance > max_projection) return AdvectResult::CentreLost;
   patch.center.point = centre;
   patch.center.normal = next.normal_at(centre);
 
-  std::vector<std::uint8_t> keep(patch.positions.size(), 1);
+  std::vector<std::uint8_t> keep(nv, 1);
   bool removed = false, damaged = false;
-  for (std::size_t v = 0; v < patch.positions.size(); ++v) {
-    const SurfacePoint p = advect_point(patch.projections[v], previous, next, dt, scheme);
+  for (std::size_t v = 0; v < nv; ++v) {
+    SurfacePoint p = project(targets[v]);
+    // Along an open rim (the 2D scenes' outflow boundaries) a vertex follows
+    // its own motion: the map, fitted to a flow along a rim drawn with
+    // chords, lands a hair inside or outside it, which would turn rim edges
+    // into patch borders or remove their vertices.
+    if (!raw.empty() && p.valid() && next.on_boundary(p, max_projection)) p = project(raw[v]);
     if (!p.valid() || p.distance > max_projection || left_through_rim(p, next, max_projection)) {
       keep[v] = 0;
       removed = true;
@@ -63,11 +147,11 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   }
   if (removed) remove_vertices(patch, keep, next);
   else update_border(patch, next);
-  if (patch.triangles.empty()) return AdvectResult::Lost;
+  if (patch.triangles.empty()) return AdvectResult::Emptied;
   return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
 }
 
-bool update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options) {
+RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options) {
   // Only where the patch contributes (|uv| < d, K_S > 0) can its distortion
   // show; the margin out to (1 + β)d only keeps the border away from it.
   auto inside = [&](int v) { return patch.uvs[v].norm() < options.radius; };
@@ -88,7 +172,10 @@ bool update_distortion(Patch& patch, const SurfaceIndex& surface, const Tracking
   std::vector<double> sum(nv, 0.0);
   std::vector<int> count(nv, 0);
   std::vector<double> weight(nv, 0.0);
-  bool distorted = false;
+  bool flipped = false, split = false, poor = false;
+  // Patch scale: what the disk still shows, Q_T weighted by seen_weight(),
+  // flipped and split triangles counting 0, and what each rule takes away.
+  double shown = 0.0, present = 0.0, loss_flipped = 0.0, loss_split = 0.0, loss_stretch = 0.0;
   patch.max_distortion = 1.0;
   const auto& component = surface.face_component();
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
@@ -113,19 +200,38 @@ bool update_distortion(Patch& patch, const SurfaceIndex& surface, const Tracking
     const Vec3 n = (q1 - q0).cross(q2 - q0);
     Vec3 surface_n = Vec3::Zero();
     for (int v : tri) surface_n += surface.normal_at(patch.projections[v]);
-    if (visible && n.dot(surface_n) < 0.0) distorted = true;
+    const bool tri_flipped = n.dot(surface_n) < 0.0;
     // Stretched across two disconnected pieces of the surface.
     const int c0 = component[patch.projections[tri[0]].face];
-    if (visible && (component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0)) {
-      distorted = true;
-    }
+    const bool tri_split = component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0;
+    if (visible) flipped = flipped || tri_flipped, split = split || tri_split;
+    const double w = seen_weight(patch, t, options.radius);
+    present += w;
+    if (tri_split) loss_split += w;
+    else if (tri_flipped) loss_flipped += w;
+    else shown += w * q, loss_stretch += w * (1.0 - q);
   }
   patch.quality.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
     patch.quality[v] = weight[v] > 0.0 ? static_cast<float>(sum[v] / weight[v]) : 0.0f;
-    if (count[v] && inside(static_cast<int>(v)) && patch.quality[v] < options.min_vertex_quality) distorted = true;
+    if (options.distortion_test == DistortionTest::Vertex && count[v] && inside(static_cast<int>(v)) &&
+        patch.quality[v] < options.min_vertex_quality) {
+      poor = true;
+    }
   }
-  return distorted;
+  if (options.distortion_test == DistortionTest::Patch) {
+    // Lost triangles (vertices removed past mpt) show nothing either.
+    const double whole = std::max(patch.disk_weight, present);
+    if (!(whole > 0.0) || shown >= options.min_vertex_quality * whole) return RetireCause::None;
+    const double loss_lost = whole - present;
+    const double worst = std::max({loss_lost, loss_split, loss_flipped, loss_stretch});
+    if (worst == loss_split) return RetireCause::Split;
+    if (worst == loss_flipped) return RetireCause::Flipped;
+    return worst == loss_lost ? RetireCause::VerticesLost : RetireCause::Quality;
+  }
+  if (split) return RetireCause::Split;
+  if (flipped) return RetireCause::Flipped;
+  return poor ? RetireCause::Quality : RetireCause::None;
 }
 
 void update_weights(Patch& patch, const TrackingOptions& options) {

@@ -1,6 +1,7 @@
 #include "fluidtex/eval.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -339,7 +340,7 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
   s << "<text x='" << L - 4 << "' y='" << Y(y0) + 4 << "' text-anchor='end'>" << number(y0) << "</text>";
   s << "<text x='" << X(x0) << "' y='" << H - 12 << "'>" << number(x0) << "</text>";
   s << "<text x='" << X(x1) << "' y='" << H - 12 << "' text-anchor='end'>frame " << number(x1) << "</text>";
-  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
   for (std::size_t k = 0; k < keys.size(); ++k) {
     std::string path;
     for (const Row& r : rows) {
@@ -349,7 +350,7 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
       std::snprintf(buf, sizeof buf, "%s%.1f,%.1f", path.empty() ? "M" : " L", X(get(r, "frame")), Y(v));
       path += buf;
     }
-    const char* colour = colours[k % 6];
+    const char* colour = colours[k % 7];
     s << "<path d='" << path << "' fill='none' stroke='" << colour << "' stroke-width='1.5'/>";
     s << "<text x='" << W - R + 8 << "' y='" << T + 12 + 14 * k << "' fill='" << colour << "'>" << labels[k] << "</text>";
   }
@@ -467,6 +468,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   std::vector<Row> rows;
   std::map<std::uint32_t, int> born;  // live patch id -> first frame seen
   std::vector<double> lifetimes;      // frames lived by patches that died
+  std::array<std::array<int, kAgeBuckets>, kRetireCauses> retired_by_age{};  // rule x age at removal
   std::set<std::uint32_t> previous_ids;
   bool have_previous_state = false;
   std::optional<TexturedFrame> previous;
@@ -513,6 +515,13 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       }
       row.emplace_back("births", have_previous_state ? births : std::nan(""));
       row.emplace_back("deaths", have_previous_state ? deaths : std::nan(""));
+      // Churn: births over live patches, and the share of patches active.
+      row.emplace_back("birth_rate", have_previous_state && !patches.empty() ? births / static_cast<double>(patches.size()) : std::nan(""));
+      row.emplace_back("active_share", patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
+      if (have_previous_state) {
+        for (auto& kv : retired_counts(tracker.retired())) row.push_back(std::move(kv));
+        for (const RetiredPatch& r : tracker.retired()) ++retired_by_age[static_cast<int>(r.cause)][age_bucket(r.age)];
+      }
       previous_ids = std::move(ids);
       have_previous_state = true;
 
@@ -633,12 +642,30 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
           "move, and random points).</p>";
   html << "<h2>Summary</h2><table>";
   for (const auto& [k, v] : summary) html << "<tr><th>" << k << "</th><td>" << number(v) << "</td></tr>";
+  html << "</table><h2>Why patches leave</h2><p>Patches flagged to fade out or lost, by the rule that fired "
+          "and their age then (frames since creation), over all frames.</p><table><tr><th>rule</th>";
+  for (int b = 0; b < kAgeBuckets; ++b) {
+    std::string name = age_bucket_name(b);
+    std::replace(name.begin(), name.end(), '_', '-');
+    html << "<th>age " << (b == kAgeBuckets - 1 ? "32+" : name) << "</th>";
+  }
+  html << "<th>all</th></tr>";
+  for (int c = 1; c < kRetireCauses; ++c) {
+    html << "<tr><th>" << to_string(static_cast<RetireCause>(c)) << "</th>";
+    int total = 0;
+    for (int n : retired_by_age[c]) html << "<td>" << n << "</td>", total += n;
+    html << "<td>" << total << "</td></tr>";
+  }
   html << "</table><h2>Per frame</h2>";
   const std::vector<std::tuple<std::string, std::vector<std::string>, std::vector<std::string>>> charts = {
       {"Coverage: uncovered share (should be 0)", {"uncovered_area", "uncovered_texels"}, {"surface area", "chart texels"}},
       {"Ghosting: patches blended per texel", {"ghosting_mean", "ghosting_p95"}, {"mean", "95th pct"}},
       {"Patches by state", {"active", "fading_in", "fading_out_distorted", "fading_out_close"}, {"active", "fading in", "out: distorted", "out: too close"}},
       {"Patch births and deaths", {"births", "deaths"}, {"births", "deaths"}},
+      {"Churn: births over live patches, active share", {"birth_rate", "active_share"}, {"births / live", "active / live"}},
+      {"Patches retired per frame, by rule",
+       {"retired_centre_lost", "retired_emptied", "retired_vertices_lost", "retired_split", "retired_flipped", "retired_quality", "retired_too_close"},
+       {"centre lost", "emptied", "vertices lost", "split", "flipped", "quality", "too close"}},
       {"Distortion D_T", {"distortion_median", "distortion_p95"}, {"median", "95th pct"}},
       {"Warping error (σ units)", {"warp_advected", "warp_fixed", "warp_random"}, {"advected", "not moving", "random"}},
       {"Optical flow vs projected velocity (px)", {"flow_endpoint_px", "flow_speed_px"}, {"endpoint error", "|velocity| (static)"}},

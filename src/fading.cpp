@@ -12,6 +12,31 @@ const char* to_string(DiskState s) {
   return "?";
 }
 
+const char* to_string(RetireCause c) {
+  switch (c) {
+    case RetireCause::None: return "none";
+    case RetireCause::CentreLost: return "centre_lost";
+    case RetireCause::Emptied: return "emptied";
+    case RetireCause::VerticesLost: return "vertices_lost";
+    case RetireCause::Split: return "split";
+    case RetireCause::Flipped: return "flipped";
+    case RetireCause::Quality: return "quality";
+    case RetireCause::TooClose: return "too_close";
+  }
+  return "?";
+}
+
+int age_bucket(int age) {
+  int b = 0;
+  for (int limit = 2; b < kAgeBuckets - 1 && age >= limit; limit *= 2) ++b;
+  return b;
+}
+
+const char* age_bucket_name(int bucket) {
+  static const char* names[kAgeBuckets] = {"0_1", "2_3", "4_7", "8_15", "16_31", "32_up"};
+  return names[bucket];
+}
+
 FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading) {
   const double rate = (fading == Fading::Density ? static_cast<double>(rho) + 1.0 : 1.0) /
                       static_cast<double>(fade_frames);

@@ -31,6 +31,15 @@ const char* to_string(Fading f) {
   return "?";
 }
 
+const char* to_string(DistortionTest t) { return t == DistortionTest::Patch ? "patch" : "vertex"; }
+
+DistortionTest distortion_test_from_string(const std::string& s) {
+  for (DistortionTest t : {DistortionTest::Patch, DistortionTest::Vertex}) {
+    if (s == to_string(t)) return t;
+  }
+  throw InputError("", "--distortion-test must be patch or vertex (got '" + s + "')");
+}
+
 Criterion criterion_from_string(const std::string& s) {
   for (Criterion c : {Criterion::Ellipsoid, Criterion::Sphere, Criterion::Plane}) {
     if (s == to_string(c)) return c;

@@ -4,6 +4,14 @@
 
 namespace fluidtex {
 
+double seen_weight(const Patch& patch, std::size_t t, double radius) {
+  const Tri& tri = patch.triangles[t];
+  const double radial = 1.0 - ((patch.uvs[tri[0]] + patch.uvs[tri[1]] + patch.uvs[tri[2]]) / 3.0).norm() / radius;
+  if (!(radial > 0.0)) return 0.0;
+  const RestTriangle& r = patch.rest[t];
+  return radial * 0.5 * std::abs((r[1] - r[0]).x() * (r[2] - r[0]).y() - (r[1] - r[0]).y() * (r[2] - r[0]).x());
+}
+
 std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles) {
   std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·triangle + corner)
   edges.reserve(3 * triangles.size());

@@ -125,6 +125,7 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     update_border(patch, surface);
   }
   patch.anchor = Vec2(uniform(seed, Stream::PatchAnchor, id, 0), uniform(seed, Stream::PatchAnchor, id, 1));
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) patch.disk_weight += seen_weight(patch, t, options.radius);
   return patch;
 }
 

@@ -187,6 +187,32 @@ PatchCoverage::PatchCoverage(const std::vector<Patch>& patches, double tolerance
   B.index = std::make_unique<PointIndex>(B.centre);
 }
 
+namespace {
+
+/// Weight of `patch` at p on its nearest triangle among those `candidate`
+/// accepts (lowest index on a tie), 0 when p projects onto none.
+template <class Candidate>
+double nearest_weight(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance, Candidate&& candidate) {
+  double best = std::numeric_limits<double>::infinity();
+  double weight = 0.0;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    if (!candidate(t)) continue;
+    const Tri& tri = patch.triangles[t];
+    Vec3 bary;
+    double dist2;
+    if (!project_to_patch_triangle(patch, tri, p, n, tolerance, bary, dist2) || !(dist2 < best)) continue;
+    best = dist2;
+    weight = bary[0] * patch.weight[tri[0]] + bary[1] * patch.weight[tri[1]] + bary[2] * patch.weight[tri[2]];
+  }
+  return weight;
+}
+
+}  // namespace
+
+bool patch_covers(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance) {
+  return nearest_weight(patch, p, n, tolerance, [](std::size_t) { return true; }) > 0.0;
+}
+
 PatchCoverage::~PatchCoverage() = default;
 
 bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
@@ -200,19 +226,13 @@ bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
   std::sort(near.begin(), near.end());
   for (const auto& [d2, k] : near) {
     // As locate(): the patch's nearest triangle (lowest index on a tie) decides.
-    const Patch& patch = (*patches_)[B.patch[k]];
-    double best = std::numeric_limits<double>::infinity();
-    double weight = 0.0;
-    for (std::size_t e = B.tri_base[k]; e < B.tri_base[k + 1]; ++e) {
-      if ((B.tri_centre[e] - p).squaredNorm() > B.tri_reach[e] * B.tri_reach[e]) continue;
-      const Tri& tri = patch.triangles[B.tri[e]];
-      Vec3 bary;
-      double dist2;
-      if (!project_to_patch_triangle(patch, tri, p, n, tolerance_, bary, dist2) || !(dist2 < best)) continue;
-      best = dist2;
-      weight = bary[0] * patch.weight[tri[0]] + bary[1] * patch.weight[tri[1]] + bary[2] * patch.weight[tri[2]];
-    }
-    if (weight > 0.0) return true;
+    // B.tri lists every triangle of the patch in order, so triangle t is entry
+    // tri_base[k] + t.
+    const std::size_t base = B.tri_base[k];
+    auto near_p = [&](std::size_t t) {
+      return (B.tri_centre[base + t] - p).squaredNorm() <= B.tri_reach[base + t] * B.tri_reach[base + t];
+    };
+    if (nearest_weight((*patches_)[B.patch[k]], p, n, tolerance_, near_p) > 0.0) return true;
   }
   return false;
 }

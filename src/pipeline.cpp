@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <numeric>
 #include <optional>
 
 #include <oneapi/tbb/parallel_pipeline.h>
@@ -193,6 +194,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   TrackerSettings settings;
   settings.method = options.tracking;
   settings.advection = options.advection;
+  settings.motion = options.patch_motion;
   settings.seed = options.seed;
   settings.coverage_aware = options.coverage_check;
   const bool flowmap = options.method == TexturingMethod::FlowMap;
@@ -304,6 +306,9 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
                 fs.extra.emplace_back("patches_created", step.created);
                 fs.extra.emplace_back("patches_removed", step.removed);
                 fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
+                for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
+                const std::vector<double>& areas = tracker->surface()->face_areas();
+                fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
                 failed += static_cast<std::size_t>(step.failed);
                 if (work->index == first) {
                   const TrackingOptions& o = tracker->settings().method;

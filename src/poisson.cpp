@@ -120,9 +120,10 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
     kept.push_back(c);
     new_index.add(c.point.position);
   };
-  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c) {
+  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c,
+                         double radius) {
     for (int i : index.within(c.point.position, reach)) {
-      if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, params.radius, params)) {
+      if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, radius, params)) {
         return true;
       }
     }
@@ -130,8 +131,8 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
   };
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const SurfaceSample& c = candidates[k];
-    if (rejected_by(new_index, kept, c)) continue;
-    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c)) continue;
+    if (rejected_by(new_index, kept, c, params.radius)) continue;
+    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c, params.radius)) continue;
     accept(c);
   }
   // Safety net for tiny components the criterion could not reach.
@@ -152,7 +153,7 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
 }
 
 std::vector<bool> flag_too_close(const std::vector<SurfaceSample>& disks, const PoissonParams& params,
-                                 double kill_alpha) {
+                                 double kill_alpha, const std::function<bool(std::size_t, std::size_t)>& redundant) {
   const double kill = (1.0 - kill_alpha) * params.radius;
   const double reach = search_radius(kill, params);
   std::vector<bool> flagged(disks.size(), false);
@@ -162,7 +163,8 @@ std::vector<bool> flag_too_close(const std::vector<SurfaceSample>& disks, const 
     const SurfaceSample& c = disks[i];
     for (int j : kept_index.within(c.point.position, reach)) {
       const SurfaceSample& d = disks[kept[j]];
-      if (rejects(d.point.position, d.normal, c.point.position, c.normal, kill, params)) {
+      if (rejects(d.point.position, d.normal, c.point.position, c.normal, kill, params) &&
+          (!redundant || redundant(static_cast<std::size_t>(kept[j]), i))) {
         flagged[i] = true;
         break;
       }

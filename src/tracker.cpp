@@ -1,6 +1,9 @@
 #include "fluidtex/tracker.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <optional>
 
@@ -30,6 +33,16 @@ PoissonParams poisson_params(const TrackingOptions& o) {
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, double>> retired_counts(const std::vector<RetiredPatch>& retired) {
+  std::array<int, kRetireCauses> causes{};
+  std::array<int, kAgeBuckets> ages{};
+  for (const RetiredPatch& r : retired) ++causes[static_cast<int>(r.cause)], ++ages[age_bucket(r.age)];
+  std::vector<std::pair<std::string, double>> out;
+  for (int c = 1; c < kRetireCauses; ++c) out.emplace_back(std::string("retired_") + to_string(static_cast<RetireCause>(c)), causes[c]);
+  for (int b = 0; b < kAgeBuckets; ++b) out.emplace_back(std::string("retired_age_") + age_bucket_name(b), ages[b]);
+  return out;
+}
 
 PatchCounts count_states(const std::vector<Patch>& patches) {
   PatchCounts c;
@@ -64,33 +77,45 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   if (started_) {
     // 1. Advection and projection.
     t0 = Clock::now();
-    std::vector<char> alive(patches_.size(), 1), damaged(patches_.size(), 0);
+    std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
     parallel_each(patches_.size(), [&](std::size_t i) {
-      const AdvectResult r =
-          advect_patch(patches_[i], *surface_, *surface, dt, o.max_projection, o.radius, settings_.advection);
-      alive[i] = r != AdvectResult::Lost;
-      damaged[i] = r == AdvectResult::Damaged;
+      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o.max_projection, o.radius, settings_.advection,
+                                 settings_.motion);
     });
     report.seconds.emplace_back("advect", seconds_since(t0));
 
     // 2. Distortion.
     t0 = Clock::now();
-    std::vector<char> distorted(patches_.size(), 0);
+    std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
     parallel_each(patches_.size(), [&](std::size_t i) {
-      if (alive[i]) distorted[i] = update_distortion(patches_[i], *surface, o) || damaged[i];
+      if (is_lost(advected[i])) return;
+      distorted[i] = update_distortion(patches_[i], *surface, o);
+      // The per-vertex rules retire a patch for any vertex lost inside the
+      // disk; the patch-scale test weighs the lost part in update_distortion.
+      if (distorted[i] == RetireCause::None && advected[i] == AdvectResult::Damaged &&
+          o.distortion_test == DistortionTest::Vertex) {
+        distorted[i] = RetireCause::VerticesLost;
+      }
     });
     std::vector<Patch> kept;
     kept.reserve(patches_.size());
     for (std::size_t i = 0; i < patches_.size(); ++i) {
-      if (!alive[i]) {
+      Patch& p = patches_[i];
+      if (is_lost(advected[i])) {
         ++report.lost;
+        if (!is_fading_out(p.state)) {
+          const RetireCause cause = advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
+          report.retired.push_back({p.id, cause, frame - p.created_frame});
+        }
         continue;
       }
-      if (distorted[i] && !is_fading_out(patches_[i].state)) {
-        patches_[i].state = DiskState::FadingOutDistorted;
-        patches_[i].flagged_frame = frame;
+      if (distorted[i] != RetireCause::None && !is_fading_out(p.state)) {
+        p.state = DiskState::FadingOutDistorted;
+        p.flagged_frame = frame;
+        p.cause = distorted[i];
+        report.retired.push_back({p.id, p.cause, frame - p.created_frame});
       }
-      kept.push_back(std::move(patches_[i]));
+      kept.push_back(std::move(p));
     }
     patches_ = std::move(kept);
     report.seconds.emplace_back("distortion", seconds_since(t0));
@@ -106,12 +131,20 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     live.push_back(i);
     disks.push_back(patches_[i].center);
   }
-  const std::vector<bool> close = flag_too_close(disks, params, o.kill_alpha);
+  auto covers_centre = [&](std::size_t older, std::size_t younger) {
+    return patch_covers(patches_[live[older]], disks[younger].point.position, disks[younger].normal, o.max_projection);
+  };
+  const std::vector<bool> close =
+      flag_too_close(disks, params, o.kill_alpha,
+                     settings_.coverage_aware ? std::function<bool(std::size_t, std::size_t)>(covers_centre) : nullptr);
   std::vector<SurfaceSample> remaining;
   for (std::size_t k = 0; k < live.size(); ++k) {
     if (close[k]) {
-      patches_[live[k]].state = DiskState::FadingOutClose;
-      patches_[live[k]].flagged_frame = frame;
+      Patch& p = patches_[live[k]];
+      p.state = DiskState::FadingOutClose;
+      p.flagged_frame = frame;
+      p.cause = RetireCause::TooClose;
+      report.retired.push_back({p.id, p.cause, frame - p.created_frame});
     } else {
       remaining.push_back(disks[k]);
     }
@@ -185,6 +218,9 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], o); });
   report.seconds.emplace_back("weights", seconds_since(t0));
 
+  std::sort(report.retired.begin(), report.retired.end(),
+            [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
+  retired_ = report.retired;
   mesh_ = std::move(mesh);
   surface_ = std::move(surface);
   frame_ = frame;

@@ -16,7 +16,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 
 class Writer {
  public:
@@ -81,10 +81,12 @@ void put_settings(Writer& w, const TrackerSettings& s) {
   w.put(o.uv_scale), w.put(o.max_projection), w.put(static_cast<std::int32_t>(o.fade_frames));
   w.put(o.thickness), w.put(o.kill_alpha), w.put(o.min_vertex_quality), w.put(o.selection_margin);
   w.put(static_cast<std::uint8_t>(o.criterion)), w.put(static_cast<std::uint8_t>(o.fading));
+  w.put(static_cast<std::uint8_t>(o.distortion_test));
   w.put(static_cast<std::uint8_t>(s.advection)), w.put(s.seed), w.put(s.candidates_per_disk);
   w.put(s.min_component_area);
   w.put(static_cast<std::uint8_t>(s.coverage_aware));
   w.put(s.patch_edge);
+  w.put(static_cast<std::uint8_t>(s.motion));
 }
 
 void get_settings(Reader& r, TrackerSettings& s) {
@@ -94,12 +96,17 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(o.radius), r.get(o.plane_angle), r.get(o.patch_vertex_angle), r.get(o.max_distortion);
   r.get(o.uv_scale), r.get(o.max_projection), r.get(fade);
   r.get(o.thickness), r.get(o.kill_alpha), r.get(o.min_vertex_quality), r.get(o.selection_margin);
-  r.get(criterion), r.get(fading), r.get(advection), r.get(s.seed), r.get(s.candidates_per_disk);
+  std::uint8_t test;
+  r.get(criterion), r.get(fading), r.get(test), r.get(advection), r.get(s.seed), r.get(s.candidates_per_disk);
+  o.distortion_test = static_cast<DistortionTest>(test);
   r.get(s.min_component_area);
   std::uint8_t coverage_aware;
   r.get(coverage_aware);
   s.coverage_aware = coverage_aware != 0;
   r.get(s.patch_edge);
+  std::uint8_t motion;
+  r.get(motion);
+  s.motion = static_cast<PatchMotion>(motion);
   o.fade_frames = fade;
   o.criterion = static_cast<Criterion>(criterion);
   o.fading = static_cast<Fading>(fading);
@@ -135,12 +142,14 @@ std::string Tracker::serialize() const {
   for (const Patch& p : patches_) {
     w.put(p.id), w.put(static_cast<std::uint8_t>(p.state)), w.put(p.kt);
     w.put(static_cast<std::int32_t>(p.created_frame)), w.put(static_cast<std::int32_t>(p.flagged_frame));
-    w.put(static_cast<std::int32_t>(p.density));
+    w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
     w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor);
     w.put_vector(p.positions), w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
-    w.put(p.max_distortion);
+    w.put(p.max_distortion), w.put(p.disk_weight);
   }
+  w.put(static_cast<std::uint64_t>(retired_.size()));
+  for (const RetiredPatch& r : retired_) w.put(r.id), w.put(static_cast<std::uint8_t>(r.cause)), w.put(static_cast<std::int32_t>(r.age));
   return w.bytes();
 }
 
@@ -170,24 +179,36 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   }
   t.patches_.resize(count);
   for (Patch& p : t.patches_) {
-    std::uint8_t state;
+    std::uint8_t state, cause;
     std::int32_t created, flagged, density;
-    r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density);
+    r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
     p.state = static_cast<DiskState>(state);
+    p.cause = static_cast<RetireCause>(cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density;
     r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor);
     r.get_vector(p.positions), r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
-    r.get(p.max_distortion);
+    r.get(p.max_distortion), r.get(p.disk_weight);
     const std::size_t nv = p.positions.size();
     bool ok = p.projections.size() == nv && p.uvs.size() == nv && p.border.size() == nv &&
               p.quality.size() == nv && p.weight.size() == nv && p.rest.size() == p.triangles.size() &&
-              state <= 3;
+              state <= 3 && cause < kRetireCauses;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }
     for (const SurfacePoint& s : p.projections) ok = ok && s.face >= 0 && static_cast<std::size_t>(s.face) < mesh->triangles.size();
     if (!ok) throw InputError(path, "corrupt state file (patch " + std::to_string(p.id) + ")");
+  }
+  std::uint64_t retired;
+  r.get(retired);
+  if (retired > t.next_id_) throw InputError(path, "corrupt state file (bad retired count)");
+  t.retired_.resize(retired);
+  for (RetiredPatch& x : t.retired_) {
+    std::uint8_t cause;
+    std::int32_t age;
+    r.get(x.id), r.get(cause), r.get(age);
+    if (cause == 0 || cause >= kRetireCauses || age < 0) throw InputError(path, "corrupt state file (retired patch)");
+    x.cause = static_cast<RetireCause>(cause), x.age = age;
   }
   if (!r.done()) throw InputError(path, "corrupt state file (trailing bytes)");
   t.frame_ = frame;

@@ -144,7 +144,7 @@ TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {
   }
   EXPECT_GT(farthest, 1.6 * 0.15 - std::sqrt(2.0) / 40);  // and it reaches out that far
   Patch p = *patch;
-  EXPECT_FALSE(update_distortion(p, surface, o));
+  EXPECT_EQ(update_distortion(p, surface, o), RetireCause::None);
   EXPECT_NEAR(p.max_distortion, 1.0, 1e-6);
   // A disk-sized patch reaches beyond d, with a border.
   int border = 0;

@@ -125,7 +125,9 @@ struct RunArgs {
   JobOptions job;
   std::string criterion = "ellipsoid";
   std::string fading = "density";
+  std::string distortion_test = "patch";
   std::string advection = "heun";
+  std::string patch_motion = "smooth";
   std::string blend = "contrast";
   std::string synthesis = "raster";
   std::string method = "patches";
@@ -219,6 +221,18 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
       ->check(CLI::IsMember({"heun", "euler"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
+  run->add_option("--distortion-test", args->distortion_test,
+                  "patch: a patch is too distorted when its mean quality over the disk (weighted as K_S) is below "
+                  "Q_vmin; vertex: when any vertex inside the disk is (paper)")
+      ->check(CLI::IsMember({"patch", "vertex"}))
+      ->capture_default_str()
+      ->group("Method (Tables 3, 4)");
+  run->add_option("--patch-motion", args->patch_motion,
+                  "smooth: a patch moves by one smooth (quadratic) map fitted to its advected vertices, so that "
+                  "velocity and re-meshing noise cannot crush its triangles; vertex: every vertex on its own (paper)")
+      ->check(CLI::IsMember({"smooth", "vertex"}))
+      ->capture_default_str()
+      ->group("Method (Tables 3, 4)");
   SynthesisJobOptions& so = args->job.synthesis;
   run->add_option("--atlas-size", so.atlas.size, "Atlas width and height in texels")->capture_default_str()->group("Synthesis");
   run->add_option("--gutter", so.atlas.gutter, "Texels between charts, filled by dilation")->capture_default_str()->group("Synthesis");
@@ -252,7 +266,9 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
 void finish_run_args(RunArgs& args) {
   args.job.tracking.criterion = criterion_from_string(args.criterion);
   args.job.tracking.fading = fading_from_string(args.fading);
+  args.job.tracking.distortion_test = distortion_test_from_string(args.distortion_test);
   args.job.advection = advection_from_string(args.advection);
+  args.job.patch_motion = patch_motion_from_string(args.patch_motion);
   args.job.synthesis.blend = blend_from_string(args.blend);
   args.job.synthesis.method = synthesis_from_string(args.synthesis);
   if (args.float_output) args.job.synthesis.depth = PixelDepth::Float;

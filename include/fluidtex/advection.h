@@ -25,18 +25,60 @@ enum class Advection {
 const char* to_string(Advection a);
 Advection advection_from_string(const std::string& s);
 
+/// How a patch's vertices follow the flow (Sec. 5.2).
+enum class PatchMotion {
+  /// Every vertex is advected on its own and projected (the paper). On real
+  /// solver output the per-vertex velocities and the surface re-meshed every
+  /// frame make neighbouring vertices wander apart, and the patch is judged
+  /// distorted within a few frames.
+  Vertex,
+  /// The default (departure from the paper): the advected vertex positions
+  /// are fitted by one smooth map of the patch's rest coordinates (a
+  /// quadratic in uv, least squares weighted by rest area), and that map,
+  /// evaluated at every vertex and at the centre, is projected onto the new
+  /// surface. The patch follows the flow's translation, rotation, stretch,
+  /// shear and bending at its own scale; noise at the scale of its triangles
+  /// cannot crush or flip them, and does not accumulate from frame to frame.
+  Smooth,
+};
+const char* to_string(PatchMotion m);
+PatchMotion patch_motion_from_string(const std::string& s);
+
+/// A smooth map of a patch's rest (uv) coordinates to 3D: a quadratic
+/// polynomial in u/d, v/d (an affine one when the vertices cannot determine
+/// a quadratic).
+struct SmoothMap {
+  Eigen::Matrix<double, 6, 3> coefficients = Eigen::Matrix<double, 6, 3>::Zero();
+  double scale = 1.0;  ///< d: uv is divided by it
+  Vec3 operator()(const Vec2& uv) const;
+};
+
+/// Least-squares fit of `targets` (one per patch vertex) as a smooth map of
+/// the vertices' uv, each weighted by its rest area (a third of its
+/// triangles' uv area). False when even an affine map is undetermined (fewer
+/// than three vertices with area, or all on a line).
+bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, double scale, SmoothMap& map);
+
 enum class AdvectResult {
   Kept,     ///< every vertex followed the surface, or only vertices outside the disk were lost
   Damaged,  ///< a vertex inside the disk (|uv| < d, where K_S > 0) was removed
-  Lost,     ///< the centre left the surface (beyond mpt), or no triangle is left
+  CentreLost,  ///< the centre left the surface (beyond mpt): the patch is lost
+  Emptied,     ///< no triangle is left: the patch is lost
 };
+inline bool is_lost(AdvectResult r) { return r == AdvectResult::CentreLost || r == AdvectResult::Emptied; }
 
 /// Advects `patch` from `previous` to `next`. A Damaged patch no longer
 /// covers its disk: the tracker fades it out as distorted so that the Poisson
 /// update replaces it (the paper: vertex removal "allows for the introduction
 /// of new patches").
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
-                          double max_projection, double radius, Advection scheme);
+                          double max_projection, double radius, Advection scheme,
+                          PatchMotion motion = PatchMotion::Smooth);
+
+/// Where one surface point is carried in dt (before projection onto `next`);
+/// Heun's second velocity is read at the projection of the Euler guess.
+Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                   Advection scheme);
 
 /// Advects one surface point; returns its projection on `next` (distance set).
 SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,
@@ -49,13 +91,15 @@ SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous
 /// `patch.quality`, `patch.max_distortion` set. Returns true when the patch is
 /// too distorted: a vertex with Q_V < Q_vmin, a triangle flipped against the
 /// surface normal, or a triangle whose corners lie on different connected
-/// components of the surface (stretched across a split). Departure from the
+/// components of the surface (stretched across a split); the rule that fired
+/// is returned (Split, then Flipped, then Quality), None when the patch is
+/// fine. Departure from the
 /// paper, which tests every vertex: only vertices and triangles inside the
 /// disk (|uv| < d, where K_S > 0) are tested, since the selection margin out
 /// to (1 + β)d carries no weight and its distortion cannot be seen; on real
 /// simulations this margin collapses on ridges and creases and would retire
 /// most patches within a few frames.
-bool update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options);
+RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options);
 
 /// Weight of the coverage tail (see update_weights).
 constexpr double kCoverageTail = 0.01;

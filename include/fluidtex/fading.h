@@ -24,6 +24,26 @@ enum class DiskState : std::uint8_t {
 };
 
 const char* to_string(DiskState s);
+
+/// Why a patch started leaving the distribution (the rule that fired).
+enum class RetireCause : std::uint8_t {
+  None = 0,
+  CentreLost,    ///< the disk centre moved farther than mpt from the new surface (removed at once)
+  Emptied,       ///< every patch triangle was removed in advection (removed at once)
+  VerticesLost,  ///< a vertex inside the disk moved beyond mpt (fades out as distorted)
+  Split,         ///< a triangle inside the disk spans two surface components
+  Flipped,       ///< a triangle inside the disk turned against the surface normal
+  Quality,       ///< a vertex inside the disk has Q_V < Q_vmin
+  TooClose,      ///< within the kill distance of an older disk (fades out as too close)
+};
+constexpr int kRetireCauses = 8;
+const char* to_string(RetireCause c);
+
+/// Age buckets (frames since creation when the rule fired) of the removal
+/// histogram: [0,1], [2,3], [4,7], [8,15], [16,31], [32,∞).
+constexpr int kAgeBuckets = 6;
+int age_bucket(int age);
+const char* age_bucket_name(int bucket);
 inline bool is_fading_out(DiskState s) {
   return s == DiskState::FadingOutDistorted || s == DiskState::FadingOutClose;
 }

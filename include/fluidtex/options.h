@@ -23,8 +23,23 @@ enum class Fading {
   Linear,   ///< Eq. 5, Yu et al. 2011: fixed τ frames
 };
 
+/// Where "too distorted" (Sec. 5.3) is judged.
+enum class DistortionTest {
+  /// The default (departure from ALGORITHM.md's per-vertex rule): the patch
+  /// is too distorted when its quality at the scale it is seen, the mean of
+  /// Q_T over the triangles inside the disk weighted by rest area and by the
+  /// radial term of K_S, falls below Q_vmin. Reconstructed surfaces and
+  /// their re-projection make single triangles spike while the patch as a
+  /// whole is fine; Q_V still scales each vertex's weight (Eq. 4), so a
+  /// locally poor spot fades under its neighbours instead of killing the patch.
+  Patch,
+  Vertex,  ///< any vertex inside the disk with Q_V < Q_vmin (Yu et al. 2011)
+};
+
 const char* to_string(Criterion c);
 const char* to_string(Fading f);
+const char* to_string(DistortionTest t);
+DistortionTest distortion_test_from_string(const std::string& s);
 /// Throw InputError for an unknown name.
 Criterion criterion_from_string(const std::string& s);
 Fading fading_from_string(const std::string& s);
@@ -45,6 +60,7 @@ struct TrackingOptions {
   double selection_margin = 0.6;    ///< β: patch triangles are taken within (1 + β)·d of the centre
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Density;
+  DistortionTest distortion_test = DistortionTest::Patch;
 
   /// Throws InputError naming the option for an out-of-range value.
   void validate() const;

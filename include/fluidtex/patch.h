@@ -21,6 +21,7 @@ struct Patch {
   double kt = 0.0;                 ///< temporal weight K_t ∈ [0, 1]
   int created_frame = 0;
   int flagged_frame = -1;          ///< frame it started fading out (t_k), −1 if not
+  RetireCause cause = RetireCause::None;  ///< why it is fading out (None while it is not)
   int density = 0;                 ///< ρ at the last update
 
   SurfaceSample center;            ///< the Poisson disk: centre on the current surface, normal
@@ -38,10 +39,17 @@ struct Patch {
   std::vector<float> weight;             ///< w_V = K_S·K_t per vertex (Eq. 2)
 
   double max_distortion = 1.0;           ///< max D_T over the triangles at the last update
+  /// Σ over the triangles at creation of seen_weight(): what the whole disk
+  /// weighs in the patch-scale distortion test (DistortionTest::Patch).
+  double disk_weight = 0.0;
 
   std::size_t num_vertices() const { return positions.size(); }
   bool empty() const { return triangles.empty(); }
 };
+
+/// How much triangle `t` of `patch` shows: its rest area times K_S's radial
+/// term (1 − |uv|/d, at its uv centroid), 0 outside the disk.
+double seen_weight(const Patch& patch, std::size_t t, double radius);
 
 /// Per triangle, bit k is set when its edge from corner k to corner k+1 is
 /// used by no other triangle (a boundary edge of the triangle list).

@@ -61,6 +61,11 @@ class PatchLocator {
 /// The first patch with w > 0 answers. Most points are covered by their
 /// nearest patch, so the answer usually comes after one patch, and no tree
 /// is built over the millions of patch triangles.
+/// True when `p` (normal `n`) projects onto `patch` within `tolerance` where
+/// its weight is positive (the patch's nearest triangle decides, as in
+/// PatchCoverage::covers).
+bool patch_covers(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance);
+
 class PatchCoverage {
  public:
   PatchCoverage(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include = nullptr);

@@ -50,6 +50,7 @@ struct JobOptions {
   TrackingOptions tracking;  ///< patches; flowmap takes d, β (tile size) and s from it
   SynthesisJobOptions synthesis;
   Advection advection = Advection::Heun;  ///< --advection
+  PatchMotion patch_motion = PatchMotion::Smooth;  ///< --patch-motion
   /// Poisson update also seeds where no live patch covers the surface
   /// (docs/method.md); --no-coverage-check leaves it out (paper's plain test).
   bool coverage_check = true;

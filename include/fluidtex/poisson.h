@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "fluidtex/options.h"
@@ -78,8 +79,16 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
 /// them oldest first), a disk is flagged when an earlier, unflagged disk
 /// rejects it at radius (1 − α)·d. So of two disks that come too close, the
 /// younger fades out and the older one, already visible, stays.
+///
+/// With `redundant` (departure from the paper), a pair counts only when
+/// redundant(older, younger) holds: the tracker passes "the older patch
+/// covers the younger disk's centre". A disk seeded where an older patch
+/// close by no longer covers the surface (it lost vertices, or the surface
+/// grew there) is not redundant; retiring it would leave the surface bare
+/// and the next update would seed it again, every frame.
 std::vector<bool> flag_too_close(const std::vector<SurfaceSample>& disks, const PoissonParams& params,
-                                 double kill_alpha);
+                                 double kill_alpha,
+                                 const std::function<bool(std::size_t, std::size_t)>& redundant = nullptr);
 
 /// Density ρ (Sec. 6.3) of each of `disks`: how many other disks are in the
 /// same plane within radius r (3D distance), whatever their state.

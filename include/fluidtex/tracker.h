@@ -31,6 +31,7 @@ namespace fluidtex {
 struct TrackerSettings {
   TrackingOptions method;                 ///< Table 3/4 parameters (resolved on the first frame)
   Advection advection = Advection::Heun;
+  PatchMotion motion = PatchMotion::Smooth;
   std::uint64_t seed = 1;
   double candidates_per_disk = 32.0;      ///< dart-throwing candidates per disk area π d²
   /// Components smaller than this × π d² may stay without a disk.
@@ -43,6 +44,14 @@ struct TrackerSettings {
   double patch_edge = 0.25;
 };
 
+/// A patch that started leaving the distribution in a step: the rule that
+/// fired and its age then (frames since its creation).
+struct RetiredPatch {
+  std::uint32_t id = 0;
+  RetireCause cause = RetireCause::None;
+  int age = 0;
+};
+
 struct StepReport {
   int frame = 0;
   PatchCounts counts;
@@ -50,6 +59,7 @@ struct StepReport {
   int removed = 0;          ///< patches removed (faded out or lost)
   int lost = 0;             ///< of those, lost in advection (centre beyond mpt, no triangle left)
   int failed = 0;           ///< disks whose patch could not be built (logged in aggregate)
+  std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
   std::size_t patch_vertices = 0;
   std::vector<std::pair<std::string, double>> seconds;  ///< per stage
 };
@@ -66,6 +76,9 @@ class Tracker {
   StepReport step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt);
 
   const std::vector<Patch>& patches() const { return patches_; }
+  /// The patches that started leaving the distribution in the last step
+  /// (flagged to fade out, or lost at once), with the rule that fired.
+  const std::vector<RetiredPatch>& retired() const { return retired_; }
   /// The parameters in use; lengths are resolved after the first step.
   const TrackerSettings& settings() const { return settings_; }
   const SurfaceIndex* surface() const { return surface_.get(); }
@@ -89,12 +102,18 @@ class Tracker {
  private:
   TrackerSettings settings_;
   std::vector<Patch> patches_;
+  std::vector<RetiredPatch> retired_;
   std::shared_ptr<const FrameMesh> mesh_;
   std::shared_ptr<const SurfaceIndex> surface_;  // refers to *mesh_
   std::uint32_t next_id_ = 0;
   int frame_ = 0;
   bool started_ = false;
 };
+
+/// The removal histogram of one step, as named counts: `retired_<cause>` for
+/// every cause (see RetireCause) and `retired_age_<bucket>` for every age
+/// bucket (see age_bucket_name), in that order, zeros included.
+std::vector<std::pair<std::string, double>> retired_counts(const std::vector<RetiredPatch>& retired);
 
 /// Counts of patches per state.
 PatchCounts count_states(const std::vector<Patch>& patches);

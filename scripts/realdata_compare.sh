@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Patches (defaults), the paper's per-vertex rules and the flow-map baseline on
+# the real Mantaflow caches in ../shared/realdata (when present), each run
+# evaluated with `fluidtex eval`; prints the Markdown table of
+# docs/results.md ("Real simulation caches").
+#   scripts/realdata_compare.sh [OUTDIR]
+#   ATLAS=2048 (atlas size)  SCENES="slosh drop obstacle"  FRAMES_slosh=1-48 ...
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-out/realdata}
+data=${REALDATA:-../shared/realdata}
+atlas=${ATLAS:-2048}
+bin=${FLUIDTEX:-build/fluidtex}
+exemplar=data/gravel.png
+mkdir -p "$out"
+[[ -d $data ]] || { echo "no real data at $data" >&2; exit 2; }
+
+run() {  # name scene [run options...]
+  local name=$1 scene=$2
+  shift 2
+  local pattern="$data/blender-$scene/$scene.####.ply"
+  local frames_var="FRAMES_$scene" frames=()
+  [[ -n ${!frames_var:-} ]] && frames=(--frames "${!frames_var}")
+  if [[ ! -f "$out/$name/eval/summary.json" ]]; then
+    /usr/bin/time -f "%e" -o "$out/$name.time" "$bin" run -q -i "$pattern" -e "$exemplar" -o "$out/$name" \
+      --atlas-size "$atlas" "${frames[@]}" "$@"
+    "$bin" eval -q -i "$pattern" "${frames[@]}" -o "$out/$name"
+  fi
+}
+
+for scene in ${SCENES:-slosh drop obstacle}; do
+  [[ -d "$data/blender-$scene" ]] || continue
+  run "$scene-patches" "$scene"
+  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex
+  run "$scene-flowmap" "$scene" --method flowmap
+done
+python3 scripts/realdata_tables.py "$out"
