@@ -149,7 +149,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
       remaining.push_back(disks[k]);
     }
   }
-  const std::vector<SurfaceSample> candidates =
+  std::vector<SurfaceSample> candidates =
       surface_candidates(*surface, o.radius, settings_.seed, settings_.candidates_per_disk);
   // Which candidates the live patches really cover (K_S > 0): their
   // weights are refreshed for the advected shape first.
@@ -162,6 +162,21 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     });
     const PatchCoverage coverage(patches_, o.max_projection, &live_mask);
     uncovered = uncovered_samples(candidates, coverage);
+    // Random candidates miss thin strips (the fillet where a liquid surface
+    // meets a wall, narrower than their spacing): the centroid of every face
+    // left bare is a candidate too, after the others, in face order.
+    const std::size_t nf = surface->mesh().triangles.size();
+    std::vector<SurfaceSample> centroids(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+      centroids[f].point = surface->at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
+      centroids[f].normal = surface->normal_at(centroids[f].point);
+    }
+    const std::vector<char> bare = uncovered_samples(centroids, coverage);
+    for (std::size_t f = 0; f < nf; ++f) {
+      if (!bare[f]) continue;
+      candidates.push_back(centroids[f]);
+      uncovered.push_back(1);
+    }
   }
   const std::vector<SurfaceSample> fresh =
       fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,
