@@ -45,18 +45,23 @@ SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous
 
 namespace {
 
-Eigen::Matrix<double, 6, 1> quadratic_basis(const Vec2& uv, double scale) {
+using Basis = Eigen::Matrix<double, SmoothMap::kTerms, 1>;
+
+/// Monomials of u/d, v/d by degree: 1 | u v | u² uv v² | u³ u²v uv² v³.
+Basis polynomial_basis(const Vec2& uv, double scale) {
   const double u = uv.x() / scale, v = uv.y() / scale;
-  Eigen::Matrix<double, 6, 1> b;
-  b << 1.0, u, v, u * u, u * v, v * v;
+  Basis b;
+  b << 1.0, u, v, u * u, u * v, v * v, u * u * u, u * u * v, u * v * v, v * v * v;
   return b;
 }
 
 }  // namespace
 
-Vec3 SmoothMap::operator()(const Vec2& uv) const { return coefficients.transpose() * quadratic_basis(uv, scale); }
+Vec3 SmoothMap::operator()(const Vec2& uv) const { return coefficients.transpose() * polynomial_basis(uv, scale); }
 
-bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, double scale, SmoothMap& map) {
+bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const TrackingOptions& options,
+                    SmoothMap& map) {
+  const double scale = options.radius;
   const std::size_t nv = patch.uvs.size();
   std::vector<double> area(nv, 0.0);
   for (const Tri& t : patch.triangles) {
@@ -66,13 +71,15 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, double
   }
   // Normal equations of the weighted fit; the affine terms come first, so
   // the leading 3×3 block is the affine fit's.
-  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 3> atb = Eigen::Matrix<double, 6, 3>::Zero();
+  constexpr int n = SmoothMap::kTerms;
+  Eigen::Matrix<double, n, n> ata = Eigen::Matrix<double, n, n>::Zero();
+  Eigen::Matrix<double, n, 3> atb = Eigen::Matrix<double, n, 3>::Zero();
   for (std::size_t v = 0; v < nv; ++v) {
-    if (!(area[v] > 0.0)) continue;
-    const Eigen::Matrix<double, 6, 1> b = quadratic_basis(patch.uvs[v], scale);
-    ata.noalias() += area[v] * b * b.transpose();
-    atb.noalias() += area[v] * b * targets[v].transpose();
+    const double w = area[v] * radial_weight(patch.uvs[v].norm(), options);
+    if (!(w > 0.0)) continue;
+    const Basis b = polynomial_basis(patch.uvs[v], scale);
+    ata.noalias() += w * b * b.transpose();
+    atb.noalias() += w * b * targets[v].transpose();
   }
   map = SmoothMap{};
   map.scale = scale;
@@ -85,6 +92,8 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, double
     map.coefficients.topRows(n) = m.ldlt().solve(atb.topRows(n));
     return map.coefficients.allFinite();
   };
+  if (solve(10)) return true;
+  map.coefficients.setZero();
   if (solve(6)) return true;
   map.coefficients.setZero();
   return solve(3);
@@ -103,14 +112,15 @@ bool left_through_rim(const SurfacePoint& p, const SurfaceIndex& surface, double
 }  // namespace
 
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
-                          double max_projection, double radius, Advection scheme, PatchMotion motion) {
+                          const TrackingOptions& options, Advection scheme, PatchMotion motion) {
+  const double max_projection = options.max_projection, radius = options.radius;
   const std::size_t nv = patch.positions.size();
   std::vector<Vec3> targets(nv);
   for (std::size_t v = 0; v < nv; ++v) targets[v] = advect_target(patch.projections[v], previous, next, dt, scheme);
   Vec3 centre_target;
   SmoothMap map;
   std::vector<Vec3> raw;  // the vertices' own targets, when the map replaces them
-  if (motion == PatchMotion::Smooth && fit_smooth_map(patch, targets, radius, map)) {
+  if (motion == PatchMotion::Smooth && fit_smooth_map(patch, targets, options, map)) {
     raw = targets;
     for (std::size_t v = 0; v < nv; ++v) targets[v] = map(patch.uvs[v]);
     centre_target = map(Vec2::Zero());
@@ -234,14 +244,16 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
   return poor ? RetireCause::Quality : RetireCause::None;
 }
 
+double radial_weight(double r, const TrackingOptions& options) {
+  const double reach = (1.0 + options.selection_margin) * options.radius;
+  return std::max(0.0, 1.0 - r / options.radius) + kCoverageTail * std::max(0.0, 1.0 - r / reach);  // d_uv = d
+}
+
 void update_weights(Patch& patch, const TrackingOptions& options) {
   const std::size_t nv = patch.positions.size();
   patch.weight.resize(nv);
-  const double d_uv = options.radius;
-  const double reach = (1.0 + options.selection_margin) * options.radius;
   for (std::size_t v = 0; v < nv; ++v) {
-    const double r = patch.uvs[v].norm();  // p_uv is the origin
-    const double radial = std::max(0.0, 1.0 - r / d_uv) + kCoverageTail * std::max(0.0, 1.0 - r / reach);
+    const double radial = radial_weight(patch.uvs[v].norm(), options);  // p_uv is the origin
     const double quality = std::max<double>(patch.quality[v], kCoverageTail);
     const double ks = radial * options.uv_scale * (patch.border[v] ? 0.0 : 1.0) * quality;  // Eq. 4
     patch.weight[v] = static_cast<float>(ks * patch.kt);                                              // Eq. 2

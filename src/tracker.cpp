@@ -79,7 +79,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     t0 = Clock::now();
     std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
     parallel_each(patches_.size(), [&](std::size_t i) {
-      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o.max_projection, o.radius, settings_.advection,
+      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o, settings_.advection,
                                  settings_.motion);
     });
     report.seconds.emplace_back("advect", seconds_since(t0));

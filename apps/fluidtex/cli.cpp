@@ -228,7 +228,7 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   run->add_option("--patch-motion", args->patch_motion,
-                  "smooth: a patch moves by one smooth (quadratic) map fitted to its advected vertices, so that "
+                  "smooth: a patch moves by one smooth (cubic) map fitted to its advected vertices, so that "
                   "velocity and re-meshing noise cannot crush its triangles; vertex: every vertex on its own (paper)")
       ->check(CLI::IsMember({"smooth", "vertex"}))
       ->capture_default_str()

@@ -33,8 +33,8 @@ enum class PatchMotion {
   /// distorted within a few frames.
   Vertex,
   /// The default (departure from the paper): the advected vertex positions
-  /// are fitted by one smooth map of the patch's rest coordinates (a
-  /// quadratic in uv, least squares weighted by rest area), and that map,
+  /// are fitted by one smooth map of the patch's rest coordinates (a cubic
+  /// in uv, least squares weighted as K_S weighs the texture), and that map,
   /// evaluated at every vertex and at the centre, is projected onto the new
   /// surface. The patch follows the flow's translation, rotation, stretch,
   /// shear and bending at its own scale; noise at the scale of its triangles
@@ -44,20 +44,25 @@ enum class PatchMotion {
 const char* to_string(PatchMotion m);
 PatchMotion patch_motion_from_string(const std::string& s);
 
-/// A smooth map of a patch's rest (uv) coordinates to 3D: a quadratic
-/// polynomial in u/d, v/d (an affine one when the vertices cannot determine
-/// a quadratic).
+/// A smooth map of a patch's rest (uv) coordinates to 3D: a cubic
+/// polynomial in u/d, v/d (a quadratic or an affine one when the vertices
+/// cannot determine more).
 struct SmoothMap {
-  Eigen::Matrix<double, 6, 3> coefficients = Eigen::Matrix<double, 6, 3>::Zero();
+  static constexpr int kTerms = 10;  ///< monomials up to degree 3
+  Eigen::Matrix<double, kTerms, 3> coefficients = Eigen::Matrix<double, kTerms, 3>::Zero();
   double scale = 1.0;  ///< d: uv is divided by it
   Vec3 operator()(const Vec2& uv) const;
 };
 
 /// Least-squares fit of `targets` (one per patch vertex) as a smooth map of
 /// the vertices' uv, each weighted by its rest area (a third of its
-/// triangles' uv area). False when even an affine map is undetermined (fewer
-/// than three vertices with area, or all on a line).
-bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, double scale, SmoothMap& map);
+/// triangles' uv area) times the radial term of its texture weight
+/// (radial_weight): the map follows the flow where the texture shows, the
+/// margin beyond d holding it there only as faintly as it is seen.
+/// False when even an affine map is undetermined (fewer than three vertices
+/// with area, or all on a line).
+bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const TrackingOptions& options,
+                    SmoothMap& map);
 
 enum class AdvectResult {
   Kept,     ///< every vertex followed the surface, or only vertices outside the disk were lost
@@ -72,8 +77,7 @@ inline bool is_lost(AdvectResult r) { return r == AdvectResult::CentreLost || r 
 /// update replaces it (the paper: vertex removal "allows for the introduction
 /// of new patches").
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
-                          double max_projection, double radius, Advection scheme,
-                          PatchMotion motion = PatchMotion::Smooth);
+                          const TrackingOptions& options, Advection scheme, PatchMotion motion = PatchMotion::Smooth);
 
 /// Where one surface point is carried in dt (before projection onto `next`);
 /// Heun's second velocity is read at the projection of the Euler guess.
@@ -103,6 +107,10 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
 
 /// Weight of the coverage tail (see update_weights).
 constexpr double kCoverageTail = 0.01;
+
+/// The radial term of K_S at |V_uv − p_uv| = r (see update_weights): 1 − r/d
+/// inside the disk plus the coverage tail out to (1 + β)d.
+double radial_weight(double r, const TrackingOptions& options);
 
 /// w_V = K_S(V)·K_t with Eq. 4, K_S = max(0, 1 − |V_uv − p_uv|/d_uv)·s·d_V·Q_V,
 /// d_uv = d (uv is metric). Fills `patch.weight`.
