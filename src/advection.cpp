@@ -134,6 +134,7 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   };
   const SurfacePoint centre = project(centre_target);
   if (!centre.valid() || centre.distance > max_projection) return AdvectResult::CentreLost;
+  patch.motion = (centre.position - patch.center.point.position).norm() / radius;
   patch.center.point = centre;
   patch.center.normal = next.normal_at(centre);
 

@@ -37,9 +37,9 @@ const char* age_bucket_name(int bucket) {
   return names[bucket];
 }
 
-FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading) {
-  const double rate = (fading == Fading::Density ? static_cast<double>(rho) + 1.0 : 1.0) /
-                      static_cast<double>(fade_frames);
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion) {
+  double rate = (fading == Fading::Linear ? 1.0 : static_cast<double>(rho) + 1.0) / static_cast<double>(fade_frames);
+  if (fading == Fading::Flow && motion > rate) rate = motion;
   switch (state) {
     case DiskState::FadingIn:
       kt += rate;  // Eq. 6, first line

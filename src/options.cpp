@@ -25,6 +25,7 @@ const char* to_string(Criterion c) {
 
 const char* to_string(Fading f) {
   switch (f) {
+    case Fading::Flow: return "flow";
     case Fading::Density: return "density";
     case Fading::Linear: return "linear";
   }
@@ -48,10 +49,10 @@ Criterion criterion_from_string(const std::string& s) {
 }
 
 Fading fading_from_string(const std::string& s) {
-  for (Fading f : {Fading::Density, Fading::Linear}) {
+  for (Fading f : {Fading::Flow, Fading::Density, Fading::Linear}) {
     if (s == to_string(f)) return f;
   }
-  throw InputError("", "--fading must be density or linear (got '" + s + "')");
+  throw InputError("", "--fading must be flow, density or linear (got '" + s + "')");
 }
 
 void TrackingOptions::validate() const {

@@ -215,7 +215,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   for (std::size_t i = 0; i < patches_.size(); ++i) {
     Patch& p = patches_[i];
     p.density = rho[i];
-    const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading);
+    const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion);
     if (r.remove) {
       ++report.removed;
       continue;

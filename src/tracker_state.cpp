@@ -146,7 +146,7 @@ std::string Tracker::serialize() const {
     w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor);
     w.put_vector(p.positions), w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
-    w.put(p.max_distortion), w.put(p.disk_weight);
+    w.put(p.max_distortion), w.put(p.disk_weight), w.put(p.motion);
   }
   w.put(static_cast<std::uint64_t>(retired_.size()));
   for (const RetiredPatch& r : retired_) w.put(r.id), w.put(static_cast<std::uint8_t>(r.cause)), w.put(static_cast<std::int32_t>(r.age));
@@ -188,7 +188,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor);
     r.get_vector(p.positions), r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
-    r.get(p.max_distortion), r.get(p.disk_weight);
+    r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
     const std::size_t nv = p.positions.size();
     bool ok = p.projections.size() == nv && p.uvs.size() == nv && p.border.size() == nv &&
               p.quality.size() == nv && p.weight.size() == nv && p.rest.size() == p.triangles.size() &&

@@ -74,6 +74,23 @@ TEST(Distortion, KnownAffineMaps) {
 
 // --- Fading: Eq. 5 and Eq. 6 ------------------------------------------------
 
+TEST(Fading, FlowFadesWithinTheTimeTheFlowCarriesAPatchOneRadius) {
+  // τ = 10, ρ = 0 (Eq. 6: 0.1 per frame); a centre moving 0.25 d per frame
+  // fades in 4 frames, one moving 0.05 d per frame at Eq. 6's pace.
+  auto frames = [](DiskState s, double motion) {
+    double kt = s == DiskState::FadingIn ? 0.0 : 1.0;
+    for (int n = 1;; ++n) {
+      const FadeResult r = fade_step(s, kt, 0, 10, Fading::Flow, motion);
+      if (r.remove || r.state == DiskState::Active) return n;
+      kt = r.kt;
+    }
+  };
+  EXPECT_EQ(frames(DiskState::FadingIn, 0.25), 4);
+  EXPECT_EQ(frames(DiskState::FadingOutDistorted, 0.25), 4);
+  EXPECT_EQ(frames(DiskState::FadingIn, 0.05), 10);
+  EXPECT_EQ(frames(DiskState::FadingOutClose, 0.0), 10);
+}
+
 TEST(Fading, DensityFadesFasterAndRemovesAtZero) {
   // Fade-in over τ = 10 frames with ρ = 0: 10 steps; with ρ = 4: 2 steps.
   auto frames_to_active = [](int rho, Fading fading) {
@@ -90,6 +107,7 @@ TEST(Fading, DensityFadesFasterAndRemovesAtZero) {
   EXPECT_EQ(frames_to_active(0, Fading::Density), 10);
   EXPECT_EQ(frames_to_active(4, Fading::Density), 2);
   EXPECT_EQ(frames_to_active(4, Fading::Linear), 10);  // Eq. 5 ignores ρ
+  EXPECT_EQ(frames_to_active(4, Fading::Flow), 2);     // still liquid: Eq. 6
   // Eq. 6 fade-out: 1 − (t − t_k)(ρ + 1)/τ.
   FadeResult r = fade_step(DiskState::FadingOutClose, 1.0, 1, 10, Fading::Density);
   EXPECT_NEAR(r.kt, 0.8, 1e-12);

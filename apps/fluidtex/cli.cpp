@@ -124,7 +124,7 @@ std::unique_ptr<tbb::global_control> limit_threads(int threads) {
 struct RunArgs {
   JobOptions job;
   std::string criterion = "ellipsoid";
-  std::string fading = "density";
+  std::string fading = "flow";
   std::string distortion_test = "patch";
   std::string advection = "heun";
   std::string patch_motion = "smooth";
@@ -212,8 +212,8 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
                 "Poisson update without the coverage test: a candidate rejected by a disk is never seeded, "
                 "even where no patch covers the surface (the paper's plain dart throwing)")
       ->group("Method (Tables 3, 4)");
-  run->add_option("--fading", args->fading, "Temporal weight: density (Eq. 6, paper) or linear (Eq. 5)")
-      ->check(CLI::IsMember({"density", "linear"}))
+  run->add_option("--fading", args->fading, "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its radius), density (Eq. 6, paper) or linear (Eq. 5)")
+      ->check(CLI::IsMember({"flow", "density", "linear"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   run->add_option("--advection", args->advection,

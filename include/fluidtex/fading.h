@@ -55,7 +55,9 @@ struct FadeResult {
 };
 
 /// One frame of fading for a disk in `state` with weight `kt` and density
-/// `rho` (other disks in the same plane within radius d, any state).
-FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading);
+/// `rho` (other disks in the same plane within radius d, any state);
+/// `motion` is how far its centre moved this frame, in units of d
+/// (Fading::Flow).
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion = 0.0);
 
 }  // namespace fluidtex

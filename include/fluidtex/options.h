@@ -19,6 +19,13 @@ enum class Criterion {
 
 /// Temporal weight K_t (Sec. 6.3).
 enum class Fading {
+  /// The default (the paper's future work, Sec. 8): Eq. 6, and at least as
+  /// fast as the flow carries the patch across its radius: the rate per
+  /// frame is max((ρ + 1)/τ, |Δp|/d), Δp the disk centre's motion in the
+  /// frame. Where the liquid moves, a fade is done before the flow has carried
+  /// the patch one radius, so it reads as the texture moving rather than
+  /// changing; still liquid fades as Eq. 6 says.
+  Flow,
   Density,  ///< Eq. 6: fades faster where more disks overlap (the paper's)
   Linear,   ///< Eq. 5, Yu et al. 2011: fixed τ frames
 };
@@ -59,7 +66,7 @@ struct TrackingOptions {
   double min_vertex_quality = 0.5;  ///< Q_vmin: a vertex below this distorts its patch (Table 4)
   double selection_margin = 0.6;    ///< β: patch triangles are taken within (1 + β)·d of the centre
   Criterion criterion = Criterion::Ellipsoid;
-  Fading fading = Fading::Density;
+  Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
 
   /// Throws InputError naming the option for an out-of-range value.

@@ -23,6 +23,7 @@ struct Patch {
   int flagged_frame = -1;          ///< frame it started fading out (t_k), −1 if not
   RetireCause cause = RetireCause::None;  ///< why it is fading out (None while it is not)
   int density = 0;                 ///< ρ at the last update
+  double motion = 0.0;             ///< how far the centre moved in the last step, in units of d
 
   SurfaceSample center;            ///< the Poisson disk: centre on the current surface, normal
   Vec2 anchor = Vec2::Zero();      ///< exemplar position of the centre, in tiles ([0,1)²)
