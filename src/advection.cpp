@@ -69,8 +69,8 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const 
     const double a = std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / 6.0;
     for (int v : t) area[v] += a;
   }
-  // Normal equations of the weighted fit; the affine terms come first, so
-  // the leading 3×3 block is the affine fit's.
+  // Normal equations of the weighted fit; lower degrees come first, so the
+  // leading 6×6 and 3×3 blocks are the quadratic and the affine fits'.
   constexpr int n = SmoothMap::kTerms;
   Eigen::Matrix<double, n, n> ata = Eigen::Matrix<double, n, n>::Zero();
   Eigen::Matrix<double, n, 3> atb = Eigen::Matrix<double, n, 3>::Zero();
@@ -85,14 +85,14 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const 
   map.scale = scale;
   // Accept a fit only when its normal matrix is well conditioned (the uv
   // spread is a fair share of d in every direction the terms need).
-  auto solve = [&](int n) {
-    const Eigen::MatrixXd m = ata.topLeftCorner(n, n);
+  auto solve = [&](int terms) {
+    const Eigen::MatrixXd m = ata.topLeftCorner(terms, terms);
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
-    if (eig.info() != Eigen::Success || !(eig.eigenvalues()(0) > 1e-6 * eig.eigenvalues()(n - 1))) return false;
-    map.coefficients.topRows(n) = m.ldlt().solve(atb.topRows(n));
+    if (eig.info() != Eigen::Success || !(eig.eigenvalues()(0) > 1e-6 * eig.eigenvalues()(terms - 1))) return false;
+    map.coefficients.topRows(terms) = m.ldlt().solve(atb.topRows(terms));
     return map.coefficients.allFinite();
   };
-  if (solve(10)) return true;
+  if (solve(n)) return true;
   map.coefficients.setZero();
   if (solve(6)) return true;
   map.coefficients.setZero();

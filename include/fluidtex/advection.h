@@ -92,12 +92,19 @@ SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous
 /// per-vertex Q_V (mean Q_T of the incident triangles, weighted by their rest
 /// area, a departure that keeps sliver triangles of reconstructed surfaces
 /// from deciding alone) stored in
-/// `patch.quality`, `patch.max_distortion` set. Returns true when the patch is
-/// too distorted: a vertex with Q_V < Q_vmin, a triangle flipped against the
-/// surface normal, or a triangle whose corners lie on different connected
-/// components of the surface (stretched across a split); the rule that fired
-/// is returned (Split, then Flipped, then Quality), None when the patch is
-/// fine. Departure from the
+/// `patch.quality`, `patch.max_distortion` set. Returns the rule that found
+/// the patch too distorted, None when it is fine.
+///
+/// DistortionTest::Patch (the default): the disk shows too little
+/// undistorted texture, Σ seen_weight·Q_T < Q_vmin · patch.disk_weight over
+/// its triangles, where flipped triangles, triangles across two surface
+/// components and triangles lost in advection count Q_T = 0; the largest of
+/// those losses names the cause (VerticesLost, Split, Flipped or Quality).
+///
+/// DistortionTest::Vertex: a triangle whose corners lie on different
+/// connected components of the surface (Split), a triangle flipped against
+/// the surface normal (Flipped), or a vertex with Q_V < Q_vmin (Quality), in
+/// that order. Departure from the
 /// paper, which tests every vertex: only vertices and triangles inside the
 /// disk (|uv| < d, where K_S > 0) are tested, since the selection margin out
 /// to (1 + β)d carries no weight and its distortion cannot be seen; on real
