@@ -4,8 +4,10 @@
 Warping ratio: per frame pair, eval's warp_advected / warp_fixed (the colour
 change along the flow over the change in place: 0 moves with the liquid, 1
 changes as much along the flow as in place); mean and 95th percentile over
-the frame pairs. Flow error: Farneback endpoint error over the projected
-speed, on frame pairs whose mean projected speed is under 15 px.
+the frame pairs. Flow error: Farneback endpoint error summed over the frame
+pairs whose mean projected speed is under 15 px, over their projected speed
+summed (frames where the liquid barely moves would make a per-frame ratio
+meaningless).
 """
 import json
 import statistics
@@ -31,8 +33,8 @@ def main(out):
         m = lines(run / "eval" / "metrics.jsonl")
         stats = lines(run / "stats.jsonl")
         ratio = [r["warp_advected"] / r["warp_fixed"] for r in m if r.get("warp_fixed")]
-        flow = [r["flow_endpoint_px"] / r["flow_speed_px"] for r in m
-                if r.get("flow_speed_px") and r["flow_speed_px"] < 15 and r.get("flow_endpoint_px") is not None]
+        slow = [r for r in m if r.get("flow_speed_px") and r["flow_speed_px"] < 15 and r.get("flow_endpoint_px") is not None]
+        flow = sum(r["flow_endpoint_px"] for r in slow) / sum(r["flow_speed_px"] for r in slow) if slow else float("nan")
         live = [sum(s["patches"].values()) for s in stats]
         births = [s.get("patches_created", 0) / n for s, n in zip(stats[1:], live[1:]) if n]
         late = [s["patches"]["active"] / n for s, n in zip(stats, live) if n and s["frame"] - stats[0]["frame"] >= 24]
@@ -45,7 +47,7 @@ def main(out):
         f = lambda x: f"{x:.3f}" if x == x else "—"
         print(f"| {run.name} | {len(stats)} | {f(statistics.mean(births)) if births else '—'} | "
               f"{f(statistics.mean(late)) if late else '—'} | {f(statistics.mean(ratio))} | {f(pct(ratio, 0.95))} | "
-              f"{f(statistics.mean(flow)) if flow else '—'} | {max(unc) if unc else '—'} | {f(mean('ghosting_mean'))} | "
+              f"{f(flow)} | {f'{max(unc):.1e}' if unc else '—'} | {f(mean('ghosting_mean'))} | "
               f"{f(mean('contrast_g'))} | {f(mean('distortion_p95'))} | {secs:.2f} |")
 
 
