@@ -7,18 +7,14 @@ of active patches after frame 24, the patch count per unit surface area
 relative to the first frame (max), uncovered surface (max), seconds per
 frame, and the patches retired by rule (totals) and by age.
 """
-import json
 import statistics
 import sys
 from pathlib import Path
 
+from summarize_stats import load  # stats.jsonl of a run, one dict per frame
+
 CAUSES = ["centre_lost", "emptied", "vertices_lost", "split", "flipped", "quality", "too_close"]
 AGES = ["0_1", "2_3", "4_7", "8_15", "16_31", "32_up"]
-
-
-def load(run):
-    with open(Path(run) / "stats.jsonl") as f:
-        return [json.loads(line) for line in f if line.strip()]
 
 
 def main(runs):
