@@ -5,7 +5,8 @@
 #     (Figs. 3, 5): coverage (with and without the coverage-aware Poisson test);
 #   - contrast-preserving vs linear blending: contrast, spectrum;
 #   - texture-flow agreement on rotation and split (Figs. 8, 9, 15);
-#   - the patch method vs two-phase advected UVs (`--method flowmap`);
+#   - the patch method vs two-phase advected UVs (`--method flowmap`) and vs
+#     the paper's per-vertex rules, on every scene;
 # and evaluates the default run of every generated scene.
 # Every run is evaluated with `fluidtex eval`; the tables are printed as
 # Markdown. Usage: scripts/compare.sh [OUTDIR]   (FRAMES=40 by default)
@@ -47,5 +48,12 @@ run drop-sphere-plain drop --criterion sphere --no-coverage-check
 run split-linear-blend split --blend linear
 run rotation-flowmap rotation --method flowmap
 run split-flowmap split --method flowmap
+run drop-flowmap drop --method flowmap
+run merge-flowmap merge --method flowmap
+for scene in rotation split drop merge; do
+  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density
+done
 
 python3 scripts/compare_tables.py "$out"
+# Patches (defaults), the paper's rules and the flow map side by side.
+python3 scripts/realdata_tables.py "$out"
