@@ -120,10 +120,9 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
     kept.push_back(c);
     new_index.add(c.point.position);
   };
-  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c,
-                         double radius) {
+  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c) {
     for (int i : index.within(c.point.position, reach)) {
-      if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, radius, params)) {
+      if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, params.radius, params)) {
         return true;
       }
     }
@@ -131,8 +130,8 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
   };
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const SurfaceSample& c = candidates[k];
-    if (rejected_by(new_index, kept, c, params.radius)) continue;
-    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c, params.radius)) continue;
+    if (rejected_by(new_index, kept, c)) continue;
+    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c)) continue;
     accept(c);
   }
   // Safety net for tiny components the criterion could not reach.

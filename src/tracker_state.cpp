@@ -68,6 +68,7 @@ class Reader {
     for (T& x : v) get(x);
   }
   bool done() const { return pos_ == buf_.size(); }
+  const std::string& path() const { return path_; }
 
  private:
   std::string buf_;
@@ -98,6 +99,9 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(o.thickness), r.get(o.kill_alpha), r.get(o.min_vertex_quality), r.get(o.selection_margin);
   std::uint8_t test;
   r.get(criterion), r.get(fading), r.get(test), r.get(advection), r.get(s.seed), r.get(s.candidates_per_disk);
+  if (test > static_cast<std::uint8_t>(DistortionTest::Vertex) || fading > static_cast<std::uint8_t>(Fading::Linear)) {
+    throw InputError(r.path(), "corrupt state file (settings)");
+  }
   o.distortion_test = static_cast<DistortionTest>(test);
   r.get(s.min_component_area);
   std::uint8_t coverage_aware;
@@ -106,6 +110,7 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(s.patch_edge);
   std::uint8_t motion;
   r.get(motion);
+  if (motion > static_cast<std::uint8_t>(PatchMotion::Smooth)) throw InputError(r.path(), "corrupt state file (settings)");
   s.motion = static_cast<PatchMotion>(motion);
   o.fade_frames = fade;
   o.criterion = static_cast<Criterion>(criterion);
