@@ -25,15 +25,18 @@ enum class DiskState : std::uint8_t {
 
 const char* to_string(DiskState s);
 
-/// Why a patch started leaving the distribution (the rule that fired).
+/// Why a patch started leaving the distribution (the rule that fired). Under
+/// the patch-scale distortion test (DistortionTest::Patch) VerticesLost,
+/// Split, Flipped and Quality name the largest share of the disk's weight
+/// lost that way when the disk as a whole shows too little.
 enum class RetireCause : std::uint8_t {
   None = 0,
   CentreLost,    ///< the disk centre moved farther than mpt from the new surface (removed at once)
   Emptied,       ///< every patch triangle was removed in advection (removed at once)
-  VerticesLost,  ///< a vertex inside the disk moved beyond mpt (fades out as distorted)
+  VerticesLost,  ///< vertices inside the disk moved beyond mpt (fades out as distorted)
   Split,         ///< a triangle inside the disk spans two surface components
   Flipped,       ///< a triangle inside the disk turned against the surface normal
-  Quality,       ///< a vertex inside the disk has Q_V < Q_vmin
+  Quality,       ///< stretched: Q_V < Q_vmin at a vertex inside the disk, or too low over the disk
   TooClose,      ///< within the kill distance of an older disk (fades out as too close)
 };
 constexpr int kRetireCauses = 8;
