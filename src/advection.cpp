@@ -35,14 +35,6 @@ Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const
   return from.position + 0.5 * (v0 + next.velocity_at(at)) * dt;
 }
 
-SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,
-                          double dt, Advection scheme) {
-  const Vec3 target = advect_target(from, previous, next, dt, scheme);
-  SurfacePoint to = next.closest_point(target);
-  to.distance = (to.position - target).norm();
-  return to;
-}
-
 namespace {
 
 using Basis = Eigen::Matrix<double, SmoothMap::kTerms, 1>;

@@ -237,20 +237,24 @@ bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
   return false;
 }
 
-double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage) {
-  const FrameMesh& mesh = surface.mesh();
-  const std::size_t nf = mesh.triangles.size();
-  std::vector<char> covered(nf, 0);
+std::vector<char> uncovered_faces(const SurfaceIndex& surface, const PatchCoverage& coverage) {
+  const std::size_t nf = surface.mesh().triangles.size();
+  std::vector<char> bare(nf, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
       const SurfacePoint s = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
-      covered[f] = coverage.covers(s.position, surface.normal_at(s));
+      bare[f] = !coverage.covers(s.position, surface.normal_at(s));
     }
   });
+  return bare;
+}
+
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage) {
+  const std::vector<char> uncovered = uncovered_faces(surface, coverage);
   double total = 0.0, bare = 0.0;  // summed in face order: deterministic
-  for (std::size_t f = 0; f < nf; ++f) {
+  for (std::size_t f = 0; f < uncovered.size(); ++f) {
     total += surface.face_areas()[f];
-    if (!covered[f]) bare += surface.face_areas()[f];
+    if (uncovered[f]) bare += surface.face_areas()[f];
   }
   return total > 0.0 ? bare / total : 0.0;
 }

@@ -165,16 +165,13 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     // Random candidates miss thin strips (the fillet where a liquid surface
     // meets a wall, narrower than their spacing): the centroid of every face
     // left bare is a candidate too, after the others, in face order.
-    const std::size_t nf = surface->mesh().triangles.size();
-    std::vector<SurfaceSample> centroids(nf);
-    for (std::size_t f = 0; f < nf; ++f) {
-      centroids[f].point = surface->at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
-      centroids[f].normal = surface->normal_at(centroids[f].point);
-    }
-    const std::vector<char> bare = uncovered_samples(centroids, coverage);
-    for (std::size_t f = 0; f < nf; ++f) {
+    const std::vector<char> bare = uncovered_faces(*surface, coverage);
+    for (std::size_t f = 0; f < bare.size(); ++f) {
       if (!bare[f]) continue;
-      candidates.push_back(centroids[f]);
+      SurfaceSample centroid;
+      centroid.point = surface->at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
+      centroid.normal = surface->normal_at(centroid.point);
+      candidates.push_back(centroid);
       uncovered.push_back(1);
     }
   }

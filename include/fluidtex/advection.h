@@ -84,10 +84,6 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
 Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                    Advection scheme);
 
-/// Advects one surface point; returns its projection on `next` (distance set).
-SurfacePoint advect_point(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next,
-                          double dt, Advection scheme);
-
 /// Distortion of a patch on its current surface: per-triangle D_T (Sorkine),
 /// per-vertex Q_V (mean Q_T of the incident triangles, weighted by their rest
 /// area, a departure that keeps sliver triangles of reconstructed surfaces

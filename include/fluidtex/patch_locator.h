@@ -79,6 +79,10 @@ class PatchCoverage {
   std::unique_ptr<Bounds> bounds_;
 };
 
+/// Per face of `surface`: 1 when no patch covers its centroid with positive
+/// weight.
+std::vector<char> uncovered_faces(const SurfaceIndex& surface, const PatchCoverage& coverage);
+
 /// Fraction of the surface area with Σw = 0: each triangle counts with its
 /// area when its centroid has no covering patch of positive weight.
 double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage);
