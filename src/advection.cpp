@@ -242,6 +242,12 @@ double radial_weight(double r, const TrackingOptions& options) {
   return std::max(0.0, 1.0 - r / options.radius) + kCoverageTail * std::max(0.0, 1.0 - r / reach);  // d_uv = d
 }
 
+float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale) {
+  const double radial = std::max(0.0, 1.0 - patch.uvs[v].norm() / radius);  // d_uv = d, p_uv is the origin
+  const double ks = radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, double(patch.quality[v]));  // Eq. 4
+  return static_cast<float>(ks * patch.kt);                                                                           // Eq. 2
+}
+
 void update_weights(Patch& patch, const TrackingOptions& options) {
   const std::size_t nv = patch.positions.size();
   patch.weight.resize(nv);

@@ -126,6 +126,8 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
     const Tri& tri = patch.triangles[b.tri];
     PatchHit hit;
     hit.patch = b.patch;
+    hit.tri = b.tri;
+    hit.bary = b.bary;
     hit.uv = b.bary[0] * patch.uvs[tri[0]] + b.bary[1] * patch.uvs[tri[1]] + b.bary[2] * patch.uvs[tri[2]];
     hit.weight = b.bary[0] * patch.weight[tri[0]] + b.bary[1] * patch.weight[tri[1]] + b.bary[2] * patch.weight[tri[2]];
     hits.push_back(hit);

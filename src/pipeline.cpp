@@ -114,6 +114,7 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   synth.blend = so.blend;
   synth.method = so.method;
   synth.uv_scale = resolved.uv_scale;
+  synth.radius = resolved.radius;
   // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
   // a tile, each patch a different part of it (its random anchor).
   synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <tuple>
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include "fluidtex/advection.h"
 #include "fluidtex/debug_views.h"
 #include "fluidtex/error.h"
 #include "fluidtex/patch_locator.h"
@@ -43,39 +45,99 @@ bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out
 }
 
 /// Per-texel sums, in double so that the fixed summation order is the only
-/// thing that decides the result.
+/// thing that decides the result. A contribution's weight is its core (the
+/// paper's K_S·K_t) plus λ times its coverage tail, λ = 1 − Σcore/ε clamped
+/// to [0, 1] (see SynthesisOptions::radius): core and tail sums are kept
+/// apart and combined once the texel's Σcore is known.
 struct Accumulator {
   int channels;
-  std::vector<double> sum;  // channels per texel
-  std::vector<double> sum_w, sum_w2, best_w;
-  std::vector<int> count, best_patch, last_patch;
+  std::vector<double> sum, tail_sum;  // channels per texel: Σ core·c, Σ tail·c
+  std::vector<double> sum_w, sum_w2, tail_w, tail_w2, cross, best_w;  // Σcore, Σcore², Σtail, Σtail², Σcore·tail
+  std::vector<int> count, tail_count, best_patch, last_patch;
   Accumulator(std::size_t n, int c)
-      : channels(c), sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), best_w(n, 0.0), count(n, 0),
-        best_patch(n, -1), last_patch(n, -1) {}
+      : channels(c), sum(n * c, 0.0), tail_sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), tail_w(n, 0.0),
+        tail_w2(n, 0.0), cross(n, 0.0), best_w(n, 0.0), count(n, 0), tail_count(n, 0), best_patch(n, -1),
+        last_patch(n, -1) {}
 };
 
-/// Adds one patch's contribution to texel `i` (once per patch and texel).
+/// A contribution with no core weight: only its tail, blended (and its
+/// exemplar looked up) only if its texel turns out (nearly) bare.
+struct TailOnly {
+  std::size_t texel;  // tile-local
+  int patch;
+  Vec2 uv;
+  double w;
+};
+
+/// Adds patch contributions to a tile's texels (once per patch and texel).
 struct Contributor {
   const std::vector<Patch>& patches;
+  const std::vector<std::vector<float>>& core;  // per patch and vertex: core_weight
   const Exemplar& exemplar;
   const SynthesisOptions& options;
   double lookup_scale;  // s / tile_size
 
-  void add(Accumulator& acc, std::size_t i, int patch, const Vec2& uv, double w) const {
-    if (!(w > 0.0) || acc.last_patch[i] == patch) return;
-    acc.last_patch[i] = patch;
+  /// Full weight w (patch.weight interpolated) and core weight at the
+  /// barycentrics `l` of triangle `tri` of `patch`.
+  std::pair<double, double> weights(int patch, const Tri& tri, const Vec3& l) const {
+    const Patch& p = patches[patch];
+    const std::vector<float>& c = core[patch];
+    return {l[0] * p.weight[tri[0]] + l[1] * p.weight[tri[1]] + l[2] * p.weight[tri[2]],
+            l[0] * c[tri[0]] + l[1] * c[tri[1]] + l[2] * c[tri[2]]};
+  }
+
+  void sample(int patch, const Vec2& uv, double* centred) const {
     const Patch& p = patches[patch];
     float r[3];
     exemplar.sample(p.anchor.x() + lookup_scale * uv.x(), p.anchor.y() + lookup_scale * uv.y(), r);
+    for (int c = 0; c < exemplar.channels(); ++c) centred[c] = blend_term(options.blend, r[c], exemplar.mean()[c]);
+  }
+
+  void add(Accumulator& acc, std::vector<TailOnly>& tails, std::size_t i, int patch, const Vec2& uv, double w,
+           double core) const {
+    if (!(w > 0.0) || acc.last_patch[i] == patch) return;
+    acc.last_patch[i] = patch;
+    const double tail = std::max(0.0, w - core);
+    if (!(core > 0.0)) {
+      tails.push_back({i, patch, uv, tail});
+      return;
+    }
+    double centred[4] = {0, 0, 0, 0};
+    sample(patch, uv, centred);
     const int nc = acc.channels;
     for (int c = 0; c < nc; ++c) {
-      const double centred = blend_term(options.blend, r[c], exemplar.mean()[c]);
-      acc.sum[i * nc + c] += w * centred;
+      acc.sum[i * nc + c] += core * centred[c];
+      acc.tail_sum[i * nc + c] += tail * centred[c];
     }
-    acc.sum_w[i] += w;
-    acc.sum_w2[i] += w * w;
+    acc.sum_w[i] += core;
+    acc.sum_w2[i] += core * core;
+    acc.tail_w[i] += tail;
+    acc.tail_w2[i] += tail * tail;
+    acc.cross[i] += core * tail;
     ++acc.count[i];
-    if (w > acc.best_w[i]) acc.best_w[i] = w, acc.best_patch[i] = patch;
+    if (core > acc.best_w[i]) acc.best_w[i] = core, acc.best_patch[i] = patch;
+  }
+
+  /// λ of texel i (1: bare of cores, the tails fill it; 0: the cores alone).
+  double tail_share(const Accumulator& acc, std::size_t i) const {
+    const double epsilon = kCoverageTail * options.uv_scale;
+    return std::clamp(1.0 - acc.sum_w[i] / epsilon, 0.0, 1.0);
+  }
+
+  /// Adds the tail-only contributions of texels with λ > 0, in their order.
+  void add_tails(Accumulator& acc, const std::vector<TailOnly>& tails) const {
+    const int nc = acc.channels;
+    for (const TailOnly& t : tails) {
+      const double lambda = tail_share(acc, t.texel);
+      if (!(lambda > 0.0)) continue;
+      double centred[4] = {0, 0, 0, 0};
+      sample(t.patch, t.uv, centred);
+      for (int c = 0; c < nc; ++c) acc.tail_sum[t.texel * nc + c] += t.w * centred[c];
+      acc.tail_w[t.texel] += t.w;
+      acc.tail_w2[t.texel] += t.w * t.w;
+      ++acc.tail_count[t.texel];
+      if (lambda * t.w > acc.best_w[t.texel]) acc.best_w[t.texel] = lambda * t.w, acc.best_patch[t.texel] = t.patch;
+    }
   }
 };
 
@@ -198,12 +260,18 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                            const std::vector<Patch>& patches, const Exemplar& exemplar,
                            const SynthesisOptions& options) {
   if (!(options.tile_size > 0.0)) throw InternalError("synthesis: tile size must be > 0");
+  if (!(options.radius > 0.0)) throw InternalError("synthesis: disk radius must be > 0");
   const int n = atlas.size;
   const std::size_t texel_count = static_cast<std::size_t>(n) * n;
   const int nc = exemplar.channels();
   const int tiles = (n + kTile - 1) / kTile;
   const std::size_t tile_count = static_cast<std::size_t>(tiles) * tiles;
-  const Contributor contribute{patches, exemplar, options, options.uv_scale / options.tile_size};
+  std::vector<std::vector<float>> core(patches.size());
+  tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
+    core[p].resize(patches[p].positions.size());
+    for (std::size_t v = 0; v < core[p].size(); ++v) core[p][v] = core_weight(patches[p], v, options.radius, options.uv_scale);
+  });
+  const Contributor contribute{patches, core, exemplar, options, options.uv_scale / options.tile_size};
   const double tolerance = options.projection_tolerance;
   SynthesisResult result;
 
@@ -436,6 +504,7 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
     const int tx1 = std::min(n, tx0 + kTile), ty1 = std::min(n, ty0 + kTile);
     Accumulator acc(static_cast<std::size_t>(kTile) * kTile, nc);
+    std::vector<TailOnly> tails;
     auto local = [&](std::size_t i) {
       return static_cast<std::size_t>(static_cast<int>(i / n) - ty0) * kTile + (static_cast<int>(i % n) - tx0);
     };
@@ -447,7 +516,10 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           if (map.face[i] < 0) continue;
           const SurfacePoint s = surface.at(map.face[i], map.bary[i]);
           locator->locate(s.position, surface.normal_at(s), hits);
-          for (const PatchHit& h : hits) contribute.add(acc, local(i), h.patch, h.uv, h.weight);
+          for (const PatchHit& h : hits) {
+            const auto [w, c] = contribute.weights(h.patch, patches[h.patch].triangles[h.tri], h.bary);
+            contribute.add(acc, tails, local(i), h.patch, h.uv, w, c);
+          }
         }
       }
     } else {
@@ -456,15 +528,15 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
       // hit of the same patch, added at once, takes precedence.
       struct Pending {
         double dist2 = std::numeric_limits<double>::infinity();
-        Vec2 uv;
-        double w = 0.0;
+        Vec2 uv = Vec2::Zero();
+        double w = 0.0, core = 0.0;
       };
       std::vector<Pending> pending(static_cast<std::size_t>(kTile) * kTile);
       std::vector<std::size_t> pending_texels;
       int pending_patch = -1;
       auto flush = [&] {
         for (std::size_t j : pending_texels) {
-          contribute.add(acc, j, pending_patch, pending[j].uv, pending[j].w);
+          contribute.add(acc, tails, j, pending_patch, pending[j].uv, pending[j].w, pending[j].core);
           pending[j] = Pending{};
         }
         pending_texels.clear();
@@ -505,8 +577,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                 if ((closest - centre).norm() > slack_px) continue;
               }
               const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
-              const double w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
-              contribute.add(acc, local(i), job.patch, uv, w);
+              const auto [w, c] = contribute.weights(job.patch, tri, l);
+              contribute.add(acc, tails, local(i), job.patch, uv, w, c);
             }
           }
         } else {
@@ -524,7 +596,7 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                   if (std::isinf(slot.dist2)) pending_texels.push_back(local(i));
                   slot.dist2 = dist2;
                   slot.uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
-                  slot.w = l[0] * patch.weight[tri[0]] + l[1] * patch.weight[tri[1]] + l[2] * patch.weight[tri[2]];
+                  std::tie(slot.w, slot.core) = contribute.weights(job.patch, tri, l);
                 }
               }
             }
@@ -533,7 +605,9 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
       }
       flush();
     }
+    contribute.add_tails(acc, tails);
     Tally& t = tally[tile];
+    std::vector<double> sum(nc);
     for (int y = ty0; y < ty1; ++y) {
       for (int x = tx0; x < tx1; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * n + x;
@@ -541,21 +615,24 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
         const std::size_t j = local(i);
         ++t.chart;
         mask[i] = 1;
+        const double lambda = contribute.tail_share(acc, j);
+        for (int c = 0; c < nc; ++c) sum[c] = acc.sum[j * nc + c] + lambda * acc.tail_sum[j * nc + c];
+        const double sum_w = acc.sum_w[j] + lambda * acc.tail_w[j];
+        const double sum_w2 = acc.sum_w2[j] + 2.0 * lambda * acc.cross[j] + lambda * lambda * acc.tail_w2[j];
         if (options.aov) {
-          result.weight.pixels[i] = static_cast<float>(acc.sum_w[j]);
-          result.count.pixels[i] = static_cast<float>(acc.count[j]);
+          result.weight.pixels[i] = static_cast<float>(sum_w);
+          result.count.pixels[i] = static_cast<float>(acc.count[j] + (lambda > 0.0 ? acc.tail_count[j] : 0));
           if (acc.best_patch[j] >= 0) {
             const auto rgb = id_color(patches[acc.best_patch[j]].id);
             for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
           }
         }
-        if (!(acc.sum_w[j] > 0.0)) {
+        if (!(sum_w > 0.0)) {
           ++t.bare;
           for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
           continue;
         }
-        t.clamped += resolve_blend(options.blend, &acc.sum[j * nc], acc.sum_w[j], acc.sum_w2[j], exemplar.mean(), nc,
-                                   &color.pixels[i * nc]);
+        t.clamped += resolve_blend(options.blend, sum.data(), sum_w, sum_w2, exemplar.mean(), nc, &color.pixels[i * nc]);
       }
     }
   });

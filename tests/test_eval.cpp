@@ -108,6 +108,7 @@ TEST(Eval, ContrastRatioIsOneForASinglePatch) {
   const Exemplar exemplar(smooth);
   SynthesisOptions so;
   so.tile_size = 0.25;
+  so.radius = 1e3;
   const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
   std::vector<char> mask(scene.map.face.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = scene.map.face[i] >= 0;

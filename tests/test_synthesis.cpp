@@ -150,6 +150,7 @@ TEST(Synthesis, SinglePatchReproducesTheExemplar) {
   const Exemplar exemplar(make_exemplar("gravel", 64, 3));
   SynthesisOptions so;
   so.tile_size = 1.0;  // the unit square shows exactly one tile
+  so.radius = 1e3;     // the fixture's weights: core ≈ w everywhere
   const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
   EXPECT_EQ(r.uncovered_texels, 0u);
   ASSERT_GT(r.chart_texels, 5000u);
@@ -165,6 +166,44 @@ TEST(Synthesis, SinglePatchReproducesTheExemplar) {
   EXPECT_LT(worst, 1e-5);
 }
 
+/// Two patches of weight 1 over the square whose disks (radius 0.3) sit on
+/// opposite corners: each corner blends only its own disk's patch (the other
+/// patch's weight there is all coverage tail), the middle, which no disk
+/// reaches, blends both tails, and nothing is bare.
+TEST(Synthesis, CoverageTailBlendsOnlyWhereNoDiskCovers) {
+  test::OnePatch scene(128);
+  scene.add(Vec2(0.25, 0.5), 1.0);
+  for (Vec2& uv : scene.add(Vec2(0.6, 0.1), 1.0).uvs) uv -= Vec2(1.0, 1.0);  // disk centre at (1, 1)
+  const Exemplar exemplar(make_exemplar("gravel", 64, 3));
+  SynthesisOptions so;
+  so.tile_size = 1.0;
+  so.radius = 0.3;
+  so.aov = true;
+  const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+  EXPECT_EQ(r.uncovered_texels, 0u);
+  std::size_t corner = 0, middle = 0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
+    if (scene.map.face[i] < 0) continue;
+    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+    const double da = Vec2(q.x(), q.y()).norm(), db = Vec2(q.x() - 1.0, q.y() - 1.0).norm();
+    if (da < 0.25 || db < 0.25) {
+      ++corner;
+      EXPECT_EQ(r.count.pixels[i], 1.0f);
+      float expect[3];
+      if (da < 0.25) exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
+      else exemplar.sample(0.6 + q.x() - 1.0, 0.1 + q.y() - 1.0, expect);
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect[c]));
+    } else if (da > 0.3 + 0.18 && db > 0.3 + 0.18) {  // vertex weights interpolate over 0.125-cells (diagonal < 0.18)
+      ++middle;
+      EXPECT_EQ(r.count.pixels[i], 2.0f);
+    }
+  }
+  EXPECT_GT(corner, 300u);
+  EXPECT_GT(middle, 300u);
+  EXPECT_LT(worst, 1e-5);
+}
+
 TEST(Synthesis, Eq7KeepsMeanAndVarianceOfUncorrelatedPatches) {
   // Four patches with equal weight, far-apart anchors and turned uv: their
   // lookups are uncorrelated. Eq. 7 keeps the exemplar's mean and variance;
@@ -174,6 +213,7 @@ TEST(Synthesis, Eq7KeepsMeanAndVarianceOfUncorrelatedPatches) {
   const Exemplar exemplar(make_exemplar("gravel", 64, 11));
   SynthesisOptions so;
   so.tile_size = 0.25;  // 16 tiles over the square: good statistics
+  so.radius = 1e3;
   auto stats = [&](Blend blend) {
     so.blend = blend;
     const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
@@ -215,6 +255,7 @@ TEST(Synthesis, RasterAgreesWithExactAndCoversGeneratedScenes) {
     SynthesisOptions opt;
     const TrackingOptions& o = tracker.settings().method;
     opt.tile_size = 2.6 * o.radius;
+    opt.radius = o.radius;
     opt.projection_tolerance = o.max_projection;
     const SynthesisResult raster = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
     opt.method = SynthesisMethod::Exact;

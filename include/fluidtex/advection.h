@@ -122,12 +122,20 @@ double radial_weight(double r, const TrackingOptions& options);
 /// is added to the radial term. A Poisson distribution is maximal only up to
 /// its candidate spacing, so slivers of surface slightly farther than d from
 /// every disk exist; Eq. 4 alone gives them Σw = 0 (a hole showing the mean
-/// colour). With the tail, they show the texture of the patches around them,
-/// and since Eq. 7 normalises by sqrt(Σw²) the tail is invisible wherever a
-/// patch covers the point with its normal weight (it changes R' by < 1e-4).
+/// colour). With the tail, they show the texture of the patches around them.
 /// For the same reason Q_V enters K_S floored at kCoverageTail: where every
 /// patch is distorted (Q_V = 0, already fading out and being replaced), the
-/// surface shows their texture rather than a flat hole.
+/// surface shows their texture rather than a flat hole. Synthesis blends the
+/// tail (w_V − core_weight) only where the core weights leave a point
+/// (nearly) bare (SynthesisOptions::radius), so elsewhere a texel blends
+/// exactly the paper's weights.
 void update_weights(Patch& patch, const TrackingOptions& options);
+
+/// The paper's w_V = K_S(V)·K_t at vertex v of `patch` (Eq. 4 and 2) without
+/// the coverage tail or the Q_V floor of update_weights: the weight a patch
+/// blends with where it covers a point with its disk. `radius` is d, `uv_scale` s.
+/// Never above patch.weight[v]; the difference is the vertex's coverage tail,
+/// which synthesis blends only where the disks leave the surface (nearly) bare.
+float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale);
 
 }  // namespace fluidtex

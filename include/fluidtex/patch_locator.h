@@ -17,6 +17,8 @@ struct PatchHit {
   int patch = -1;        ///< index into the patch list given to the locator
   Vec2 uv = Vec2::Zero();
   double weight = 0.0;   ///< barycentric blend of the vertex weights w_V
+  int tri = -1;          ///< the patch triangle that covers the point
+  Vec3 bary = Vec3::Zero();  ///< and the point's barycentric coordinates in it
 };
 
 /// Projects the surface point `q` (unit normal `n`) onto triangle `t` of

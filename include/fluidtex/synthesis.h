@@ -43,6 +43,13 @@ struct SynthesisOptions {
   /// is anchor + s·uv / tile_size. Must be > 0 (the job sets (2 + β)·d).
   double tile_size = 1.0;
   double uv_scale = 1.0;           ///< s (Table 3)
+  /// d, the disk radius: the support of each patch's core weight K_S·K_t
+  /// (Eq. 4, 2; core_weight). A texel blends its patches' core weights; the
+  /// coverage tail of the weights (update_weights) enters only as λ·tail,
+  /// λ = clamp(1 − Σcore / (kCoverageTail·s), 0, 1), so it fills the slivers
+  /// no disk reaches and fades out continuously where one does. Must be > 0
+  /// (the job sets --radius).
+  double radius = 0.0;
   double projection_tolerance = 0; ///< exact projection slack (scene units); the job sets mpt
   bool aov = false;                ///< also fill weight / count / patch layers
 };
