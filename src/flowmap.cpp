@@ -9,7 +9,6 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 
-#include "fluidtex/debug_views.h"
 #include "fluidtex/error.h"
 #include "fluidtex/random.h"
 

@@ -25,19 +25,18 @@
 #include <OpenMesh/Core/IO/reader/OBJReader.hh>
 #include <OpenMesh/Core/IO/reader/PLYReader.hh>
 #include <OpenMesh/Core/Mesh/ArrayKernel.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <sstream>
 
 #include <Eigen/Geometry>
 
 #include "fluidtex/error.h"
+#include "openmesh_reader.h"
 #include "ply_header.h"
 
 namespace fluidtex {
@@ -128,24 +127,6 @@ class FrameImporter final : public OM::IO::BaseImporter {
   void add_texture_information(int, std::string) override {}
 };
 
-/// Runs an OpenMesh reader with its diagnostics silenced. PLYReader and
-/// OBJReader are process-wide singletons with per-file state, so concurrent
-/// reads are serialised here (parsing is a few ms of a frame's work).
-template <typename ReadFn>
-bool run_openmesh_reader(ReadFn&& read) {
-  static std::mutex reader_mutex;  // guards OpenMesh's reader singletons and omerr/omlog
-  std::lock_guard<std::mutex> lock(reader_mutex);
-  OM::mostream* streams[] = {&::omerr(), &::omlog(), &::omout()};
-  bool was_enabled[3];
-  for (int i = 0; i < 3; ++i) {
-    was_enabled[i] = streams[i]->is_enabled();
-    streams[i]->disable();
-  }
-  const bool ok = read();
-  for (int i = 0; i < 3; ++i)
-    if (was_enabled[i]) streams[i]->enable();
-  return ok;
-}
 
 // --- Values and polygons ----------------------------------------------------------------
 

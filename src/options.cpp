@@ -83,9 +83,5 @@ TrackingOptions TrackingOptions::resolved(double first_frame_diagonal) const {
   return r;
 }
 
-void InputOptions::validate() const {
-  if (pattern.empty()) throw InputError("", "-i/--input: an input frame pattern is required");
-  require(std::isfinite(fps) && fps > 0.0, "fps", "must be > 0");
-}
 
 }  // namespace fluidtex

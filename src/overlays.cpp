@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "fluidtex/debug_views.h"
+#include "fluidtex/random.h"
 
 namespace fluidtex {
 

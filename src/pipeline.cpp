@@ -17,7 +17,7 @@
 #include "fluidtex/sequence.h"
 #include "fluidtex/stats.h"
 #include "fluidtex/tracker.h"
-#include "fluidtex/uv_mesh_writer.h"
+#include "fluidtex/uv_mesh_io.h"
 
 namespace fluidtex {
 

@@ -6,8 +6,6 @@
 #include <limits>
 #include <numbers>
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include "fluidtex/error.h"
 
@@ -371,37 +369,6 @@ Image contact_sheet(const std::vector<Image>& images, const std::vector<std::str
     if (static_cast<std::size_t>(k) < labels.size()) draw_label(sheet, ox + scale, oy + scale, labels[k], scale);
   }
   return sheet;
-}
-
-UVMesh read_uv_mesh_obj(const std::string& path) {
-  using Mesh = OpenMesh::PolyMesh_ArrayKernelT<>;
-  Mesh m;
-  m.request_halfedge_texcoords2D();
-  m.request_vertex_normals();
-  OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord | OpenMesh::IO::Options::VertexNormal;
-  if (!OpenMesh::IO::read_mesh(m, path, opt)) throw InputError(path, "cannot read UV mesh (OBJ)");
-  if (!opt.check(OpenMesh::IO::Options::FaceTexCoord)) throw InputError(path, "UV mesh has no texture coordinates");
-  UVMesh out;
-  for (auto v : m.vertices()) {
-    const auto p = m.point(v);
-    out.positions.emplace_back(p[0], p[1], p[2]);
-    const auto n = m.normal(v);
-    out.normals.emplace_back(n[0], n[1], n[2]);
-  }
-  for (auto f : m.faces()) {
-    std::vector<int> vs, uvs;
-    for (auto h : m.fh_range(f)) {
-      vs.push_back(m.to_vertex_handle(h).idx());
-      const auto t = m.texcoord2D(h);
-      uvs.push_back(static_cast<int>(out.uvs.size()));
-      out.uvs.emplace_back(t[0], t[1]);
-    }
-    for (std::size_t k = 1; k + 1 < vs.size(); ++k) {
-      out.triangles.push_back({vs[0], vs[k], vs[k + 1]});
-      out.uv_triangles.push_back({uvs[0], uvs[k], uvs[k + 1]});
-    }
-  }
-  return out;
 }
 
 }  // namespace fluidtex

@@ -1,11 +1,17 @@
 #include "fluidtex/sequence.h"
 
+#include <cmath>
 #include <filesystem>
 
 #include "fluidtex/error.h"
 #include "fluidtex/mesh_io.h"
 
 namespace fluidtex {
+
+void InputOptions::validate() const {
+  if (pattern.empty()) throw InputError("", "-i/--input: an input frame pattern is required");
+  if (!(std::isfinite(fps) && fps > 0.0)) throw InputError("", "--fps must be > 0");
+}
 
 Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(options.pattern) {
   options_.validate();

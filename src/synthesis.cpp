@@ -9,9 +9,9 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/advection.h"
-#include "fluidtex/debug_views.h"
 #include "fluidtex/error.h"
 #include "fluidtex/patch_locator.h"
+#include "fluidtex/random.h"
 
 namespace fluidtex {
 

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "fluidtex/exemplar_gen.h"
-#include "fluidtex/debug_views.h"
 #include "fluidtex/error.h"
+#include "fluidtex/exemplar_gen.h"
 #include "fluidtex/overlays.h"
+#include "fluidtex/random.h"
 #include "fluidtex/render.h"
 #include "test_util.h"
 

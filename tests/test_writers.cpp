@@ -17,7 +17,7 @@
 #include "fluidtex/error.h"
 #include "fluidtex/image_io.h"
 #include "fluidtex/stats.h"
-#include "fluidtex/uv_mesh_writer.h"
+#include "fluidtex/uv_mesh_io.h"
 #include "test_util.h"
 
 namespace fluidtex {

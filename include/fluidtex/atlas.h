@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "fluidtex/surface.h"
-#include "fluidtex/uv_mesh_writer.h"
+#include "fluidtex/uv_mesh_io.h"
 
 namespace fluidtex {
 

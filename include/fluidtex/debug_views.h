@@ -13,9 +13,6 @@
 
 namespace fluidtex {
 
-/// A distinct, stable colour per id (8-bit RGB).
-std::array<unsigned char, 3> id_color(std::uint32_t id);
-
 void write_patch_view(const std::string& path, const std::vector<Patch>& patches);
 void write_disk_view(const std::string& path, const std::vector<Patch>& patches, int frame);
 

@@ -22,7 +22,7 @@
 #include "fluidtex/pipeline.h"
 #include "fluidtex/render.h"
 #include "fluidtex/report.h"
-#include "fluidtex/uv_mesh_writer.h"
+#include "fluidtex/uv_mesh_io.h"
 
 namespace fluidtex {
 

@@ -76,17 +76,6 @@ struct TrackingOptions {
   TrackingOptions resolved(double first_frame_diagonal) const;
 };
 
-/// How to read the input sequence.
-struct InputOptions {
-  std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
-  std::string frames;                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
-  double fps = 24.0;                     ///< frames per second; dt = 1/fps
-  std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
-  bool velocity_from_positions = false;  ///< derive velocities by central differences
-  bool strict = false;                   ///< reject non-manifold frames instead of carrying on
-
-  void validate() const;
-};
 
 /// Visits every tracking option as (flag name, field reference, help text),
 /// in the order shown by --help and written by --print-config.

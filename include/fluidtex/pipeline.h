@@ -12,6 +12,7 @@
 #include "fluidtex/synthesis.h"
 #include "fluidtex/options.h"
 #include "fluidtex/report.h"
+#include "fluidtex/sequence.h"
 #include "fluidtex/stats.h"
 
 namespace fluidtex {

@@ -4,6 +4,7 @@
 /// on the order in which items are visited (as in pbrt-v4).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 
@@ -41,5 +42,9 @@ inline double uniform(std::uint64_t seed, Stream stream, std::uint64_t a, std::u
                       std::uint64_t c = 0) {
   return to_unit(hash_values({seed, static_cast<std::uint64_t>(stream), a, b, c}));
 }
+
+/// A distinct, stable colour per id (8-bit RGB): a random hue, full
+/// saturation, bright (patch ids in debug views, AOVs and overlays).
+std::array<unsigned char, 3> id_color(std::uint32_t id);
 
 }  // namespace fluidtex

@@ -18,7 +18,7 @@
 
 #include "fluidtex/image_io.h"
 #include "fluidtex/mesh.h"
-#include "fluidtex/uv_mesh_writer.h"
+#include "fluidtex/uv_mesh_io.h"
 
 namespace fluidtex {
 
@@ -159,9 +159,5 @@ struct Canvas {
 /// each image at its cell's top-left; `labels` (same count, may be empty)
 /// are written in the cells' corners in a small digit font (digits and '-').
 Image contact_sheet(const std::vector<Image>& images, const std::vector<std::string>& labels, int gap = 4);
-
-/// Reads a UV mesh written by write_uv_mesh_obj (v, vt, vn, f v/vt/vn) through
-/// OpenMesh; InputError when the file is missing or malformed.
-UVMesh read_uv_mesh_obj(const std::string& path);
 
 }  // namespace fluidtex

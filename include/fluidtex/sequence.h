@@ -11,9 +11,20 @@
 #include "fluidtex/frame_pattern.h"
 #include "fluidtex/mesh.h"
 #include "fluidtex/mesh_clean.h"
-#include "fluidtex/options.h"
 
 namespace fluidtex {
+
+/// How to read the input sequence.
+struct InputOptions {
+  std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
+  std::string frames;                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
+  double fps = 24.0;                     ///< frames per second; dt = 1/fps
+  std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
+  bool velocity_from_positions = false;  ///< derive velocities by central differences
+  bool strict = false;                   ///< reject non-manifold frames instead of carrying on
+
+  void validate() const;
+};
 
 class Sequence {
  public:

@@ -1,6 +1,6 @@
-// UV mesh writers (see uv_mesh_writer.h).
+// UV mesh writers and the OBJ reader (see uv_mesh_io.h).
 //
-// Written by hand rather than through OpenMesh::IO: OpenMesh's halfedge
+// The writers are written by hand rather than through OpenMesh::IO: OpenMesh's halfedge
 // structure cannot hold non-manifold frames (it drops or duplicates faces
 // around complex edges/vertices), and fluid surfaces must be passed through
 // unchanged, vertex for vertex and face for face.
@@ -8,7 +8,7 @@
 // Numbers are written as 32-bit floats (what the PLY holds and what DCC tools
 // read) in the shortest text that round-trips (std::to_chars: exact and
 // locale-independent), so the same mesh always gives the same bytes.
-#include "fluidtex/uv_mesh_writer.h"
+#include "fluidtex/uv_mesh_io.h"
 
 #include <algorithm>
 #include <bit>
@@ -20,8 +20,12 @@
 #include <fstream>
 #include <utility>
 
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
 #include "fluidtex/atomic_file.h"
 #include "fluidtex/error.h"
+#include "openmesh_reader.h"
 
 namespace fluidtex {
 
@@ -254,6 +258,37 @@ void write_uv_mesh(const std::string& path, const UVMesh& mesh) {
   if (ext == ".ply") return write_uv_mesh_ply(path, mesh);
   throw InputError(path, "unsupported UV mesh extension '" + fs::path(path).extension().string() +
                              "' (use .obj or .ply)");
+}
+
+UVMesh read_uv_mesh_obj(const std::string& path) {
+  using Mesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+  Mesh m;
+  m.request_halfedge_texcoords2D();
+  m.request_vertex_normals();
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord | OpenMesh::IO::Options::VertexNormal;
+  if (!run_openmesh_reader([&] { return OpenMesh::IO::read_mesh(m, path, opt); })) throw InputError(path, "cannot read UV mesh (OBJ)");
+  if (!opt.check(OpenMesh::IO::Options::FaceTexCoord)) throw InputError(path, "UV mesh has no texture coordinates");
+  UVMesh out;
+  for (auto v : m.vertices()) {
+    const auto p = m.point(v);
+    out.positions.emplace_back(p[0], p[1], p[2]);
+    const auto n = m.normal(v);
+    out.normals.emplace_back(n[0], n[1], n[2]);
+  }
+  for (auto f : m.faces()) {
+    std::vector<int> vs, uvs;
+    for (auto h : m.fh_range(f)) {
+      vs.push_back(m.to_vertex_handle(h).idx());
+      const auto t = m.texcoord2D(h);
+      uvs.push_back(static_cast<int>(out.uvs.size()));
+      out.uvs.emplace_back(t[0], t[1]);
+    }
+    for (std::size_t k = 1; k + 1 < vs.size(); ++k) {
+      out.triangles.push_back({vs[0], vs[k], vs[k + 1]});
+      out.uv_triangles.push_back({uvs[0], uvs[k], uvs[k + 1]});
+    }
+  }
+  return out;
 }
 
 }  // namespace fluidtex

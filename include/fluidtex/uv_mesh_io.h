@@ -1,5 +1,6 @@
-/// @file uv_mesh_writer.h
-/// @brief The per-frame UV mesh: the frame's surface with atlas coordinates.
+/// @file uv_mesh_io.h
+/// @brief The per-frame UV mesh: the frame's surface with atlas coordinates,
+/// written (OBJ, PLY) and read back (OBJ, for eval and preview).
 /// Seams carry per-corner UVs: a vertex on a chart border has one uv per chart.
 ///
 /// Both writers pass the frame through unchanged (non-manifold and
@@ -43,5 +44,9 @@ void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh);
 
 /// Picks the writer from the extension (.obj or .ply); InputError otherwise.
 void write_uv_mesh(const std::string& path, const UVMesh& mesh);
+
+/// Reads a UV mesh written by write_uv_mesh_obj (v, vt, vn, f v/vt/vn) through
+/// OpenMesh; InputError when the file is missing or malformed.
+UVMesh read_uv_mesh_obj(const std::string& path);
 
 }  // namespace fluidtex
