@@ -15,11 +15,11 @@
 
 #include <oneapi/tbb/global_control.h>
 
-#include "fluidtex/atlas.h"
-#include "fluidtex/exemplar_gen.h"
-#include "fluidtex/scenes.h"
-#include "fluidtex/synthesis.h"
-#include "fluidtex/tracker.h"
+#include "fluidtex/texture/atlas.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/tracker.h"
 
 using namespace fluidtex;
 

@@ -15,17 +15,17 @@
 
 #include <oneapi/tbb/global_control.h>
 
-#include "fluidtex/error.h"
-#include "fluidtex/eval.h"
-#include "fluidtex/exemplar_gen.h"
-#include "fluidtex/image_io.h"
-#include "fluidtex/info.h"
-#include "fluidtex/overlays.h"
-#include "fluidtex/pipeline.h"
-#include "fluidtex/render.h"
-#include "fluidtex/scenes.h"
-#include "fluidtex/sequence.h"
-#include "fluidtex/tracker.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/inspect/eval.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/io/image_io.h"
+#include "fluidtex/inspect/info.h"
+#include "fluidtex/inspect/overlays.h"
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/inspect/render.h"
+#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/io/sequence.h"
+#include "fluidtex/tracking/tracker.h"
 
 namespace fluidtex::cli {
 

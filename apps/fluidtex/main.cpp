@@ -7,7 +7,7 @@
 #include <locale>
 
 #include "cli.h"
-#include "fluidtex/error.h"
+#include "fluidtex/util/error.h"
 
 int main(int argc, char** argv) {
   std::setlocale(LC_ALL, "C");

@@ -1,0 +1,110 @@
+/// @file eval.h
+/// @brief `fluidtex eval`: how good a finished run is, measured per frame
+/// from its outputs (atlas + UV mesh), its patch states and the input
+/// sequence: coverage, ghosting, patch life, distortion, texture–flow
+/// agreement (warping error and optical flow against the fluid velocity),
+/// contrast and spectrum. Writes OUT/eval/metrics.jsonl, summary.json and a
+/// self-contained report.html.
+///
+/// The metric functions are exposed on their own so that each can be tested
+/// on a case with a known answer.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fluidtex/texture/exemplar.h"
+#include "fluidtex/io/image_io.h"
+#include "fluidtex/geometry/mesh.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/inspect/render.h"
+#include "fluidtex/util/report.h"
+#include "fluidtex/io/uv_mesh_io.h"
+
+namespace fluidtex {
+
+/// Texels of a `size`² atlas covered by the uv triangles of `mesh` (texel
+/// centre inside a uv triangle): the chart texels.
+std::vector<char> chart_mask(const UVMesh& mesh, int size);
+
+/// σ of each channel of `image` over the texels where `mask` is set,
+/// divided by the exemplar's σ (1 = contrast kept; linear blending of k
+/// uncorrelated patches gives about 1/sqrt(k)).
+std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar);
+
+/// Radially averaged log power spectrum (luminance, Hann window, DC left
+/// out) of the n×n crop of `image` at (x0, y0); n a power of two. Bin k
+/// averages the frequencies with k <= |f| < k+1, k = 1 .. n/2 − 1.
+std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int n);
+
+/// RMS difference of two radial log spectra (natural log units).
+double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b);
+
+/// The exemplar resampled (bilinear, tiled) at `scale` exemplar texels per
+/// output texel, an n×n crop starting at exemplar texel (x0, y0).
+Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale, int n);
+
+/// A textured surface at one frame: the UV mesh, its atlas and a closest
+/// point index over the mesh.
+struct TexturedFrame {
+  UVMesh mesh;
+  Image atlas;
+  std::unique_ptr<const FrameMesh> geometry;  ///< mesh positions/triangles (what `surface` indexes)
+  std::unique_ptr<SurfaceIndex> surface;
+
+  TexturedFrame(UVMesh m, Image a);
+  /// Colour of the surface point nearest to `p` (atlas lookup at its uv).
+  void color_at(const Vec3& p, float* out) const;
+};
+
+struct WarpingError {
+  double advected = 0.0;  ///< colour at t vs colour at the advected point at t+1
+  double fixed = 0.0;     ///< baseline: the same point, not advected (a texture that does not move)
+  double random = 0.0;    ///< baseline: a random point of t+1 (no coherence)
+  std::size_t samples = 0;
+};
+
+/// Texture–flow agreement between consecutive frames: `samples` points of
+/// `mesh` (frame t, with velocities; area-weighted, fixed seed) coloured from
+/// frame t, then looked up at t+1 at p + v·dt (and at the two baselines).
+/// Mean absolute colour difference over channels, divided by the mean σ of
+/// the exemplar channels.
+WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
+                           const Exemplar& exemplar, int samples, std::uint64_t seed);
+
+struct FlowError {
+  double endpoint = 0.0;  ///< mean |flow − projected velocity|, pixels
+  double angular = 0.0;   ///< mean angle between (u, v, 1) vectors, degrees
+  double speed = 0.0;     ///< mean |projected velocity|, pixels: the endpoint error of a texture that does not move
+  std::size_t pixels = 0;
+};
+
+/// Dense optical flow (OpenCV Farnebäck) from `a` to `b` (linear RGB or
+/// grey renders of consecutive frames) compared with `expected` (per pixel,
+/// two channels: the image-space displacement in pixels) where `mask` is set.
+FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask);
+
+struct EvalOptions {
+  std::string run_dir;          ///< -o: the finished run's folder
+  InputOptions input;           ///< -i: the input sequence the run used
+  std::string exemplar;         ///< -e; empty = the run's (from OUT/job.toml)
+  int samples = 20000;          ///< warping-error sample points per frame pair
+  std::uint64_t seed = 1;
+  int flow_width = 512;         ///< render width for the optical-flow metric (0 = off)
+  int report_images = 4;        ///< preview images in the report
+  RenderOptions render;         ///< camera of the flow renders and report images
+};
+
+struct EvalSummary {
+  std::size_t frames = 0;
+  std::string report;  ///< path of report.html
+};
+
+/// Evaluates the run in options.run_dir made with `job` (read from its
+/// job.toml by the caller). InputError for missing or unreadable outputs.
+EvalSummary run_eval(const EvalOptions& options, const JobOptions& job, Reporter& reporter);
+
+}  // namespace fluidtex

@@ -1,0 +1,35 @@
+/// @file info.h
+/// @brief `fluidtex info`: what a sequence holds, frame by frame, and what is
+/// wrong with it, without writing anything.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fluidtex/geometry/mesh.h"
+#include "fluidtex/geometry/mesh_clean.h"
+#include "fluidtex/io/sequence.h"
+
+namespace fluidtex {
+
+struct FrameInfo {
+  int frame = 0;
+  std::string path;
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  BBox bbox;
+  double area = 0.0;
+  double mean_edge = 0.0;
+  double speed_min = 0.0, speed_max = 0.0, speed_mean = 0.0;  ///< |v|, scene units / s
+  CleanReport clean;
+  std::string error;  ///< non-empty when the frame could not be read
+};
+
+/// Reads and measures sequence.frames()[index]; a bad frame is reported in
+/// `error` instead of throwing.
+FrameInfo inspect_frame(const Sequence& sequence, std::size_t index);
+
+/// A human-readable table plus a summary (frames, ranges, problems).
+std::string format_info(const std::vector<FrameInfo>& frames, double fps);
+
+}  // namespace fluidtex

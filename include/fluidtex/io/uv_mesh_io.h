@@ -1,0 +1,52 @@
+/// @file uv_mesh_io.h
+/// @brief The per-frame UV mesh: the frame's surface with atlas coordinates,
+/// written (OBJ, PLY) and read back (OBJ, for eval and preview).
+/// Seams carry per-corner UVs: a vertex on a chart border has one uv per chart.
+///
+/// Both writers pass the frame through unchanged (non-manifold and
+/// unreferenced vertices included), write numbers as 32-bit floats in the
+/// shortest text that round-trips (locale-independent), give byte-identical
+/// files for identical meshes, and write atomically. Index arrays out of
+/// range, mismatched array sizes or non-finite values are an InternalError
+/// (nothing is written). `normals` may be empty (no `vn` / zero normals) and
+/// `uv_triangles` may be empty (no `vt` / zero uvs).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fluidtex/geometry/mesh.h"
+
+namespace fluidtex {
+
+struct UVMesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;     ///< per vertex (same indexing as positions)
+  std::vector<Tri> triangles;    ///< into positions
+  std::vector<Vec2> uvs;         ///< atlas coordinates in [0,1]², v up (OBJ convention)
+  std::vector<Tri> uv_triangles; ///< per corner, into uvs; same count as triangles
+};
+
+/// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`, 1-based), atomically.
+/// With `mtl_image` non-empty, first writes a sibling `<stem>.mtl` (material
+/// "fluidtex_atlas") naming it as map_Kd, and adds `mtllib`/`usemtl` lines.
+/// A relative `mtl_image` is written as given (it should be relative to the
+/// OBJ's folder, usually the atlas's file name); an absolute one is made
+/// relative to the OBJ's folder.
+void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh,
+                       const std::string& mtl_image = {});
+
+/// Writes a binary little-endian PLY with per-vertex `float x y z nx ny nz u v`
+/// and `list uchar int vertex_indices`, atomically. Vertices are split: one
+/// output vertex per distinct (vertex, uv index) pair used by a corner, in
+/// order of (vertex, uv index); unreferenced vertices are kept with uv (0,0).
+void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh);
+
+/// Picks the writer from the extension (.obj or .ply); InputError otherwise.
+void write_uv_mesh(const std::string& path, const UVMesh& mesh);
+
+/// Reads a UV mesh written by write_uv_mesh_obj (v, vt, vn, f v/vt/vn) through
+/// OpenMesh; InputError when the file is missing or malformed.
+UVMesh read_uv_mesh_obj(const std::string& path);
+
+}  // namespace fluidtex

@@ -1,0 +1,64 @@
+/// @file atlas.h
+/// @brief The per-frame texture atlas of the whole surface (Gagnon et al.
+/// 2019, Sec. 6.4: "All the pixels are computed on a texture atlas"; the
+/// mapping uses Lévy et al. 2002). Since every frame is an independent mesh,
+/// every frame gets its own atlas.
+///
+/// Charts: region growing from the lowest unassigned face over faces whose
+/// normal stays within a cone of the seed's normal, kept a topological disk
+/// (disk_region.h) and bounded in size; each chart is flattened with LSCM
+/// (metric: uv area = 3D area), turned to its principal axes, scaled to one
+/// common texel density (world units per texel, so detail is even across the
+/// surface) and packed by shape (a horizon per column of cells, four
+/// rotations: Lévy et al. 2002, Sec. 5) into a square of `size` texels with a
+/// gutter between charts. Charts covering less than `min_fill` of their
+/// bounding box are cut smaller first. The density is the largest that fits.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "fluidtex/geometry/surface.h"
+#include "fluidtex/io/uv_mesh_io.h"
+
+namespace fluidtex {
+
+struct AtlasOptions {
+  int size = 2048;              ///< atlas width = height, texels
+  int gutter = 4;               ///< empty texels around each chart (filled by dilation)
+  double normal_cone = 0.85;    ///< faces join a chart while N_f·N_seed > this
+  std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
+  double max_stretch = 1.5;     ///< charts with a larger mean area stretch are cut smaller
+  double min_fill = 0.6;        ///< charts covering less of their bounding box are cut smaller (packing)...
+  std::size_t min_fill_faces = 64;  ///< ...unless they have at most this many faces
+
+  void validate() const;  ///< InputError for a bad value
+};
+
+struct Chart {
+  std::vector<int> faces;          ///< surface faces, in growth order
+  Eigen::Vector2i origin{0, 0};    ///< lower-left texel of its rectangle (gutter included)
+  Eigen::Vector2i extent{0, 0};    ///< rectangle size in texels (gutter included)
+  double area3 = 0.0;              ///< 3D area
+  double stretch = 1.0;            ///< area-weighted mean of max(a_uv/a_3d, a_3d/a_uv) (1 = no area distortion)
+};
+
+struct Atlas {
+  int size = 0;
+  double texels_per_unit = 0.0;    ///< texel density (texels per scene unit)
+  std::vector<Chart> charts;
+  std::vector<int> face_chart;                 ///< chart of each surface face
+  std::vector<std::array<Vec2, 3>> corner_px;  ///< per face, corner positions in texel units (x right, y down)
+  double packing_efficiency = 0.0;             ///< chart area / atlas area
+  int failed_charts = 0;                       ///< charts cut again (LSCM failed or stretched too much)
+};
+
+/// Builds the atlas of `surface`.
+Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options);
+
+/// The UV mesh of the frame: positions, vertex normals, triangles and per
+/// corner atlas uv in [0,1]² (v up), shared where corners share a vertex and
+/// a chart.
+UVMesh atlas_uv_mesh(const SurfaceIndex& surface, const Atlas& atlas);
+
+}  // namespace fluidtex

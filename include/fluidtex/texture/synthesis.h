@@ -1,0 +1,107 @@
+/// @file synthesis.h
+/// @brief Texel synthesis into the frame's atlas (Gagnon et al. 2019, Sec. 6.4,
+/// Eq. 7, after Yu et al. 2011): for every texel covered by a chart, the
+/// patches overlapping its surface point, each patch's uv there and its
+/// weight w (vertex weights interpolated), blended as
+///   R'(x) = Σ w_i (R(u_i) − R̂) / sqrt(Σ w_i²) + R̂     (contrast preserving)
+/// or Σ w_i R(u_i) / Σ w_i (linear). Results outside [0,1] are clamped.
+///
+/// Two ways to find, per texel, the covering patches:
+///  - `Raster` (default): every patch vertex already has its projection on
+///    the surface (triangle + barycentrics), hence an atlas position; a patch
+///    triangle whose corners lie in one chart is rasterised straight into the
+///    atlas. Triangles spanning charts fall back to exact projection of the
+///    texels of the surface triangles under them.
+///  - `Exact`: the paper's method (Sec. 7.1), each texel's 3D point projected
+///    through every patch triangle near it; the reference for tests.
+/// Both run in parallel over atlas tiles and accumulate each texel's
+/// contributions in patch order, so the result does not depend on threads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "fluidtex/texture/atlas.h"
+#include "fluidtex/texture/exemplar.h"
+#include "fluidtex/tracking/patch.h"
+
+namespace fluidtex {
+
+enum class Blend { ContrastPreserving, Linear };
+enum class SynthesisMethod { Raster, Exact };
+
+const char* to_string(Blend b);
+const char* to_string(SynthesisMethod m);
+Blend blend_from_string(const std::string& s);
+SynthesisMethod synthesis_from_string(const std::string& s);
+
+struct SynthesisOptions {
+  Blend blend = Blend::ContrastPreserving;
+  SynthesisMethod method = SynthesisMethod::Raster;
+  /// Scene units covered by one exemplar tile at uv scale s = 1; the lookup
+  /// is anchor + s·uv / tile_size. Must be > 0 (the job sets (2 + β)·d).
+  double tile_size = 1.0;
+  double uv_scale = 1.0;           ///< s (Table 3)
+  /// d, the disk radius: the support of each patch's core weight K_S·K_t
+  /// (Eq. 4, 2; core_weight). A texel blends its patches' core weights; the
+  /// coverage tail of the weights (update_weights) enters only as λ·tail,
+  /// λ = clamp(1 − Σcore / (kCoverageTail·s), 0, 1), so it fills the slivers
+  /// no disk reaches and fades out continuously where one does. Must be > 0
+  /// (the job sets --radius).
+  double radius = 0.0;
+  double projection_tolerance = 0; ///< exact projection slack (scene units); the job sets mpt
+  bool aov = false;                ///< also fill weight / count / patch layers
+};
+
+struct SynthesisResult {
+  Image color;          ///< atlas colour (exemplar channels), gutters dilated
+  Image weight;         ///< Σw per texel (with aov)
+  Image count;          ///< number of patches blended per texel (with aov)
+  Image patch;          ///< dominant patch id as a colour (with aov)
+  std::size_t chart_texels = 0;     ///< texels inside charts
+  std::size_t uncovered_texels = 0; ///< of those, texels with Σw = 0
+  std::size_t clamped_texels = 0;   ///< texels where a channel left [0,1]
+  std::size_t exact_triangles = 0;  ///< patch triangles that fell back to exact projection (Raster)
+  double uncovered_fraction() const {
+    return chart_texels ? static_cast<double>(uncovered_texels) / static_cast<double>(chart_texels) : 0.0;
+  }
+};
+
+/// Which surface face (and where in it) each atlas texel centre shows.
+struct TexelMap {
+  int size = 0;
+  std::vector<int> face;      ///< per texel (row-major, y down), −1 outside every chart
+  std::vector<Vec3> bary;     ///< per texel, barycentric coordinates in that face
+  std::vector<std::uint32_t> face_start;  ///< texels of face f: texels[face_start[f] .. face_start[f+1])
+  std::vector<std::uint32_t> texels;      ///< texel indices grouped by face, ascending within a face
+};
+
+/// One exemplar sample's term in the per-texel sums: R − R̂ for Eq. 7, R for
+/// linear blending (computed in float, as the sample is).
+inline float blend_term(Blend blend, float sample, float mean) {
+  return blend == Blend::ContrastPreserving ? sample - mean : sample;
+}
+
+/// Resolves one texel from its sums over the blended samples: `sum` holds
+/// Σ w·blend_term per channel, with Σw (> 0) and Σw². Writes Eq. 7,
+/// Σ w(R − R̂) / sqrt(Σw²) + R̂, or linear Σ wR / Σw, clamped to [0,1];
+/// returns true when a channel left [0,1] before clamping. Shared by the
+/// patch synthesis and the flow-map baseline (flowmap.h).
+bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
+                   int channels, float* out);
+
+/// Rasterises the atlas charts: the texel → surface map.
+TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas);
+
+/// Synthesises the atlas from `patches` (their weights must be current).
+SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& texels,
+                           const std::vector<Patch>& patches, const Exemplar& exemplar,
+                           const SynthesisOptions& options);
+
+/// Fills every texel outside the charts (mask == 0) within `rings` texels of
+/// a chart with the mean of its filled 8-neighbours, ring by ring, so that
+/// bilinear and mip-mapped lookups near chart borders see no seam.
+void dilate(Image& image, std::vector<char>& mask, int rings);
+
+}  // namespace fluidtex

@@ -1,0 +1,66 @@
+/// @file fading.h
+/// @brief The four disk states and the temporal weight K_t (Gagnon et al.
+/// 2019, Sec. 5.4 and 6.3; Yu et al. 2011, Eq. 5).
+///
+/// Eq. 6 (density-based): fade-in K_t = min(1, t(ρ+1)/τ), fade-out
+/// K_t = max(0, 1 − (t − t_k)(ρ+1)/τ). Since ρ changes every frame, K_t is
+/// accumulated: K_t += (ρ+1)/τ per frame while fading in, −= while fading out
+/// (Eq. 6 with the current density; keeps K_t continuous). Eq. 5 (linear) is
+/// the same with ρ = 0. The first step happens on the frame a patch is
+/// created (or flagged), so a new patch contributes at once.
+#pragma once
+
+#include <cstdint>
+
+#include "fluidtex/tracking/options.h"
+
+namespace fluidtex {
+
+enum class DiskState : std::uint8_t {
+  FadingIn = 0,
+  Active = 1,
+  FadingOutDistorted = 2,
+  FadingOutClose = 3,
+};
+
+const char* to_string(DiskState s);
+
+/// Why a patch started leaving the distribution (the rule that fired). Under
+/// the patch-scale distortion test (DistortionTest::Patch) VerticesLost,
+/// Split, Flipped and Quality name the largest share of the disk's weight
+/// lost that way when the disk as a whole shows too little.
+enum class RetireCause : std::uint8_t {
+  None = 0,
+  CentreLost,    ///< the disk centre moved farther than mpt from the new surface (removed at once)
+  Emptied,       ///< every patch triangle was removed in advection (removed at once)
+  VerticesLost,  ///< vertices inside the disk moved beyond mpt (fades out as distorted)
+  Split,         ///< a triangle inside the disk spans two surface components
+  Flipped,       ///< a triangle inside the disk turned against the surface normal
+  Quality,       ///< stretched: Q_V < Q_vmin at a vertex inside the disk, or too low over the disk
+  TooClose,      ///< within the kill distance of an older disk (fades out as too close)
+};
+constexpr int kRetireCauses = 8;
+const char* to_string(RetireCause c);
+
+/// Age buckets (frames since creation when the rule fired) of the removal
+/// histogram: [0,1], [2,3], [4,7], [8,15], [16,31], [32,∞).
+constexpr int kAgeBuckets = 6;
+int age_bucket(int age);
+const char* age_bucket_name(int bucket);
+inline bool is_fading_out(DiskState s) {
+  return s == DiskState::FadingOutDistorted || s == DiskState::FadingOutClose;
+}
+
+struct FadeResult {
+  DiskState state;
+  double kt;
+  bool remove;  ///< K_t reached 0 (or below) while fading out
+};
+
+/// One frame of fading for a disk in `state` with weight `kt` and density
+/// `rho` (other disks in the same plane within radius d, any state);
+/// `motion` is how far its centre moved this frame, in units of d
+/// (Fading::Flow).
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion = 0.0);
+
+}  // namespace fluidtex

@@ -1,0 +1,95 @@
+/// @file patch_locator.h
+/// @brief Which patches cover a point of the surface, and with which uv and
+/// weight: the exact, per-point projection through the patch triangles that
+/// Gagnon et al. 2019 (Sec. 7.1) use per texel, with a k-d tree over the
+/// centroids of every patch triangle. Used for the coverage measure and as the reference
+/// ("exact") texel synthesis.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fluidtex/tracking/patch.h"
+
+namespace fluidtex {
+
+struct PatchHit {
+  int patch = -1;        ///< index into the patch list given to the locator
+  Vec2 uv = Vec2::Zero();
+  double weight = 0.0;   ///< barycentric blend of the vertex weights w_V
+  int tri = -1;          ///< the patch triangle that covers the point
+  Vec3 bary = Vec3::Zero();  ///< and the point's barycentric coordinates in it
+};
+
+/// Projects the surface point `q` (unit normal `n`) onto triangle `t` of
+/// `patch`: it covers q when it faces the same side (a triangle facing away is
+/// the other side of a thin sheet, or a fold), lies within `tolerance` of q
+/// along its normal, and contains q's projection up to an in-plane slack of
+/// tolerance/10 (so the corners of a polygonal rim between two patch border
+/// points still count). On success, `bary` holds the (clamped) barycentric
+/// coordinates and `dist2` the squared distance to q.
+bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
+                               Vec3& bary, double& dist2);
+
+class PatchLocator {
+ public:
+  /// `tolerance`: how far (scene units) a patch triangle may lie from the
+  /// query point and still cover it (patch triangles are flat chords of a
+  /// curved surface, so a little slack is needed; a fraction of mpt).
+  /// With `include`, only the patches whose entry is non-zero are located.
+  PatchLocator(const std::vector<Patch>& patches, double tolerance,
+               const std::vector<char>* include = nullptr);
+  ~PatchLocator();
+
+  /// The covering patches of the surface point `p` with unit normal `n`, at
+  /// most one hit per patch (its nearest triangle), in patch order. A
+  /// triangle facing away from `n` (the other side of a thin sheet) does
+  /// not cover. Thread safe.
+  void locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const;
+
+ private:
+  struct Tree;
+  const std::vector<Patch>* patches_;
+  double tolerance_;
+  std::unique_ptr<Tree> tree_;
+};
+
+/// Whether some patch covers a surface point with a positive weight: the same
+/// answer as PatchLocator (any hit with w > 0), found the cheap way. Patches
+/// are bounded by spheres (vertex centroid, farthest vertex) in a k-d tree
+/// of a few thousand centres; the patches whose sphere reaches the point are
+/// tried nearest first; in each, as in locate(), the nearest triangle the
+/// point projects into (behind a centroid-distance reject) gives the weight.
+/// The first patch with w > 0 answers. Most points are covered by their
+/// nearest patch, so the answer usually comes after one patch, and no tree
+/// is built over the millions of patch triangles.
+/// True when `p` (normal `n`) projects onto `patch` within `tolerance` where
+/// its weight is positive (the patch's nearest triangle decides, as in
+/// PatchCoverage::covers).
+bool patch_covers(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance);
+
+class PatchCoverage {
+ public:
+  PatchCoverage(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include = nullptr);
+  ~PatchCoverage();
+  bool covers(const Vec3& p, const Vec3& n) const;  ///< thread safe
+
+ private:
+  struct Bounds;
+  const std::vector<Patch>* patches_;
+  double tolerance_;
+  std::unique_ptr<Bounds> bounds_;
+};
+
+/// Per face of `surface`: 1 when no patch covers its centroid with positive
+/// weight.
+std::vector<char> uncovered_faces(const SurfaceIndex& surface, const PatchCoverage& coverage);
+
+/// Fraction of the surface area with Σw = 0: each triangle counts with its
+/// area when its centroid has no covering patch of positive weight.
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage);
+
+/// Per sample: 1 when no patch covers it with positive weight.
+std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage);
+
+}  // namespace fluidtex

@@ -1,0 +1,125 @@
+/// @file tracker.h
+/// @brief Patch tracking over a sequence (Gagnon et al. 2019, Secs. 4–6.3):
+/// the per-frame update of the Poisson-disk distribution of deformable
+/// patches. Per frame, in order (ALGORITHM.md):
+///  1. advect every disk centre and patch vertex, project onto the new surface
+///     (vertices beyond mpt are removed, a centre beyond mpt kills its patch);
+///  2. distortion → "fading out (too distorted)";
+///  3. Poisson update ignoring fading-out disks: kill distance → "fading out
+///     (too close)", new disks in the gaps, their patches created;
+///  4. density ρ and K_t (Eq. 6 or 5); fading-out patches at K_t ≤ 0 removed;
+///  5. vertex weights w_V = K_S·K_t.
+/// The first frame gets a fresh distribution whose patches start active.
+///
+/// Parallel (oneTBB) over patches for advection, distortion, creation and
+/// weights; every loop writes only its own slot and every random number is a
+/// hash of (seed, frame, item), so results are identical for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fluidtex/tracking/advection.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/tracking/patch.h"
+#include "fluidtex/io/stats.h"
+
+namespace fluidtex {
+
+struct TrackerSettings {
+  TrackingOptions method;                 ///< Table 3/4 parameters (resolved on the first frame)
+  Advection advection = Advection::Heun;
+  PatchMotion motion = PatchMotion::Smooth;
+  std::uint64_t seed = 1;
+  double candidates_per_disk = 32.0;      ///< dart-throwing candidates per disk area π d²
+  /// Components smaller than this × π d² may stay without a disk.
+  double min_component_area = 0.02;
+  /// Insert disks where no live patch covers the surface even if a disk
+  /// centre is near (see fill_gaps); off gives the paper's centre-only test.
+  bool coverage_aware = true;
+  /// Patch triangles are remeshed to edges of this × d (≤ 0 keeps the
+  /// surface's own triangles; see build_patch).
+  double patch_edge = 0.25;
+};
+
+/// A patch that started leaving the distribution in a step: the rule that
+/// fired and its age then (frames since its creation).
+struct RetiredPatch {
+  std::uint32_t id = 0;
+  RetireCause cause = RetireCause::None;
+  int age = 0;
+};
+
+struct StepReport {
+  int frame = 0;
+  PatchCounts counts;
+  int created = 0;          ///< new patches this frame
+  int removed = 0;          ///< patches removed (faded out or lost)
+  int lost = 0;             ///< of those, lost in advection (centre beyond mpt, no triangle left)
+  int failed = 0;           ///< disks whose patch could not be built (logged in aggregate)
+  std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
+  std::size_t patch_vertices = 0;
+  std::vector<std::pair<std::string, double>> seconds;  ///< per stage
+};
+
+class Tracker {
+ public:
+  explicit Tracker(TrackerSettings settings);
+  ~Tracker();
+  Tracker(Tracker&&) noexcept;
+  Tracker& operator=(Tracker&&) noexcept;
+
+  /// Advances to `mesh` (frame number `frame`, `dt` seconds after the previous
+  /// step). The tracker keeps the mesh for the next step.
+  StepReport step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt);
+
+  const std::vector<Patch>& patches() const { return patches_; }
+  /// The patches that started leaving the distribution in the last step
+  /// (flagged to fade out, or lost at once), with the rule that fired.
+  const std::vector<RetiredPatch>& retired() const { return retired_; }
+  /// The parameters in use; lengths are resolved after the first step.
+  const TrackerSettings& settings() const { return settings_; }
+  const SurfaceIndex* surface() const { return surface_.get(); }
+  /// The current surface, shared: it stays valid after later steps (the
+  /// pipeline synthesises frame t while the tracker moves on to t + 1).
+  std::shared_ptr<const SurfaceIndex> shared_surface() const { return surface_; }
+  std::shared_ptr<const FrameMesh> mesh() const { return mesh_; }
+  int frame() const { return frame_; }
+  bool started() const { return started_; }
+
+  /// Binary state (versioned): settings, frame, next id and every patch, so a
+  /// later process can resume tracking or synthesise this frame. The surface
+  /// is not stored: resuming re-reads the frame's mesh and checks it matches.
+  void save(const std::string& path) const;
+  /// The bytes save() writes.
+  std::string serialize() const;
+  /// Restores a saved state onto `mesh` (the same frame's mesh, read again);
+  /// InputError when the file is not a valid state or does not match `mesh`.
+  static Tracker load(const std::string& path, std::shared_ptr<const FrameMesh> mesh);
+
+ private:
+  TrackerSettings settings_;
+  std::vector<Patch> patches_;
+  std::vector<RetiredPatch> retired_;
+  std::shared_ptr<const FrameMesh> mesh_;
+  std::shared_ptr<const SurfaceIndex> surface_;  // refers to *mesh_
+  std::uint32_t next_id_ = 0;
+  int frame_ = 0;
+  bool started_ = false;
+};
+
+/// The removal histogram of one step, as named counts: `retired_<cause>` for
+/// every cause (see RetireCause) and `retired_age_<bucket>` for every age
+/// bucket (see age_bucket_name), in that order, zeros included.
+std::vector<std::pair<std::string, double>> retired_counts(const std::vector<RetiredPatch>& retired);
+
+/// Counts of patches per state.
+PatchCounts count_states(const std::vector<Patch>& patches);
+
+/// A cheap fingerprint of a mesh (counts and a hash of its data) stored in the
+/// state file so that a resume on different input is caught.
+std::uint64_t mesh_fingerprint(const FrameMesh& mesh);
+
+}  // namespace fluidtex

@@ -1,0 +1,688 @@
+#include "fluidtex/inspect/eval.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include <OpenImageIO/color.h>
+#include <OpenImageIO/strutil.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <opencv2/core.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <unsupported/Eigen/FFT>
+
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/geometry/distortion.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/util/random.h"
+#include "fluidtex/io/sequence.h"
+#include "fluidtex/io/stats.h"
+#include "fluidtex/geometry/surface.h"
+#include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/tracker.h"
+
+namespace fluidtex {
+
+std::vector<char> chart_mask(const UVMesh& mesh, int size) {
+  std::vector<char> mask(static_cast<std::size_t>(size) * size, 0);
+  for (const Tri& t : mesh.uv_triangles) {
+    std::array<Vec2, 3> p;
+    for (int k = 0; k < 3; ++k) p[k] = Vec2(mesh.uvs[t[k]].x() * size, (1.0 - mesh.uvs[t[k]].y()) * size);
+    const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+    const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[2] - p[0]).x() * (p[1] - p[0]).y();
+    if (area == 0.0) continue;
+    for (int y = std::max(0, static_cast<int>(lo.y() - 0.5)); y <= std::min(size - 1, static_cast<int>(hi.y())); ++y) {
+      for (int x = std::max(0, static_cast<int>(lo.x() - 0.5)); x <= std::min(size - 1, static_cast<int>(hi.x())); ++x) {
+        const Vec2 q(x + 0.5, y + 0.5);
+        auto edge = [&](const Vec2& a, const Vec2& b) { return ((b - a).x() * (q - a).y() - (q - a).x() * (b - a).y()) / area; };
+        if (edge(p[0], p[1]) >= -1e-9 && edge(p[1], p[2]) >= -1e-9 && edge(p[2], p[0]) >= -1e-9) {
+          mask[static_cast<std::size_t>(y) * size + x] = 1;
+        }
+      }
+    }
+  }
+  return mask;
+}
+
+std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar) {
+  const int nc = std::min(image.channels, exemplar.channels());
+  std::vector<double> sum(nc, 0.0), sum2(nc, 0.0);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    ++n;
+    for (int c = 0; c < nc; ++c) {
+      const double v = image.pixels[i * image.channels + c];
+      sum[c] += v, sum2[c] += v * v;
+    }
+  }
+  std::vector<double> ratio(nc, 0.0);
+  if (n < 2) return ratio;
+  for (int c = 0; c < nc; ++c) {
+    const double mean = sum[c] / n;
+    const double sd = std::sqrt(std::max(0.0, sum2[c] / n - mean * mean));
+    ratio[c] = exemplar.stddev()[c] > 0.0f ? sd / exemplar.stddev()[c] : 0.0;
+  }
+  return ratio;
+}
+
+namespace {
+
+double luminance(const Image& image, std::size_t i) {
+  const float* p = &image.pixels[i * image.channels];
+  return image.channels >= 3 ? 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2] : p[0];
+}
+
+}  // namespace
+
+std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int n) {
+  if (n < 8 || (n & (n - 1)) != 0) throw InternalError("radial_log_spectrum: n must be a power of two >= 8");
+  if (x0 < 0 || y0 < 0 || x0 + n > image.width || y0 + n > image.height) throw InternalError("radial_log_spectrum: crop outside the image");
+  // Luminance, mean removed, Hann window.
+  std::vector<double> window(n);
+  for (int i = 0; i < n; ++i) window[i] = 0.5 - 0.5 * std::cos(2.0 * M_PI * (i + 0.5) / n);
+  std::vector<double> lum(static_cast<std::size_t>(n) * n);
+  double mean = 0.0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      lum[static_cast<std::size_t>(y) * n + x] = luminance(image, static_cast<std::size_t>(y0 + y) * image.width + (x0 + x));
+      mean += lum[static_cast<std::size_t>(y) * n + x];
+    }
+  }
+  mean /= static_cast<double>(n) * n;
+  // 2D FFT: rows, then columns.
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> grid(static_cast<std::size_t>(n) * n);
+  std::vector<double> row(n);
+  std::vector<std::complex<double>> out(n), col(n);
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) row[x] = (lum[static_cast<std::size_t>(y) * n + x] - mean) * window[x] * window[y];
+    fft.fwd(out, row);
+    for (int x = 0; x < n; ++x) grid[static_cast<std::size_t>(y) * n + x] = out[x];
+  }
+  for (int x = 0; x < n; ++x) {
+    for (int y = 0; y < n; ++y) col[y] = grid[static_cast<std::size_t>(y) * n + x];
+    fft.fwd(out, col);
+    for (int y = 0; y < n; ++y) grid[static_cast<std::size_t>(y) * n + x] = out[y];
+  }
+  const int bins = n / 2;
+  std::vector<double> power(bins, 0.0);
+  std::vector<int> count(bins, 0);
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const int fx = x <= n / 2 ? x : x - n, fy = y <= n / 2 ? y : y - n;
+      const int k = static_cast<int>(std::sqrt(static_cast<double>(fx * fx + fy * fy)));
+      if (k < 1 || k >= bins) continue;
+      power[k] += std::norm(grid[static_cast<std::size_t>(y) * n + x]);
+      ++count[k];
+    }
+  }
+  std::vector<double> spectrum;
+  for (int k = 1; k < bins; ++k) spectrum.push_back(std::log(power[k] / std::max(1, count[k]) + 1e-12));
+  return spectrum;
+}
+
+double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size() || a.empty()) throw InternalError("spectrum_distance: spectra of different sizes");
+  double sum = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) sum += (a[k] - b[k]) * (a[k] - b[k]);
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale, int n) {
+  Image out;
+  out.width = out.height = n;
+  out.channels = exemplar.channels();
+  out.pixels.resize(static_cast<std::size_t>(n) * n * out.channels);
+  const double w = exemplar.image().width, h = exemplar.image().height;
+  float px[3];
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      exemplar.sample((x0 + (x + 0.5) * scale) / w, 1.0 - (y0 + (y + 0.5) * scale) / h, px);  // v up, rows down
+      for (int c = 0; c < out.channels; ++c) out.pixels[(static_cast<std::size_t>(y) * n + x) * out.channels + c] = px[c];
+    }
+  }
+  return out;
+}
+
+TexturedFrame::TexturedFrame(UVMesh m, Image a) : mesh(std::move(m)), atlas(std::move(a)) {
+  auto g = std::make_unique<FrameMesh>();
+  g->positions = mesh.positions;
+  g->triangles = mesh.triangles;
+  g->velocities.assign(mesh.positions.size(), Vec3::Zero());
+  geometry = std::move(g);  // on the heap: the index keeps its address when the frame is moved
+  surface = std::make_unique<SurfaceIndex>(*geometry);
+}
+
+void TexturedFrame::color_at(const Vec3& p, float* out) const {
+  const SurfacePoint s = surface->closest_point(p);
+  if (!s.valid()) {
+    for (int c = 0; c < atlas.channels; ++c) out[c] = 0.0f;
+    return;
+  }
+  const Tri& t = mesh.uv_triangles[s.face];
+  const Vec2 uv = s.bary[0] * mesh.uvs[t[0]] + s.bary[1] * mesh.uvs[t[1]] + s.bary[2] * mesh.uvs[t[2]];
+  sample_bilinear(atlas, uv.x() * atlas.width, (1.0 - uv.y()) * atlas.height, out);
+}
+
+namespace {
+
+/// Area-weighted random points of `mesh` (face, barycentrics), fixed seed.
+std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int count, std::uint64_t seed, std::uint64_t salt) {
+  std::vector<double> cumulative;
+  double total = 0.0;
+  for (const Tri& t : mesh.triangles) {
+    total += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    cumulative.push_back(total);
+  }
+  std::vector<std::pair<int, Vec3>> out;
+  if (!(total > 0.0)) return out;
+  for (int i = 0; i < count; ++i) {
+    const double r = uniform(seed, Stream::Evaluation, salt, static_cast<std::uint64_t>(i), 0) * total;
+    const int f = static_cast<int>(std::min<std::size_t>(
+        std::upper_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin(), cumulative.size() - 1));
+    double a = uniform(seed, Stream::Evaluation, salt, static_cast<std::uint64_t>(i), 1);
+    double b = uniform(seed, Stream::Evaluation, salt, static_cast<std::uint64_t>(i), 2);
+    if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+    out.emplace_back(f, Vec3(1.0 - a - b, a, b));
+  }
+  return out;
+}
+
+Vec3 point_of(const FrameMesh& mesh, int f, const Vec3& bary, const std::vector<Vec3>& attribute) {
+  const Tri& t = mesh.triangles[f];
+  return bary[0] * attribute[t[0]] + bary[1] * attribute[t[1]] + bary[2] * attribute[t[2]];
+}
+
+}  // namespace
+
+WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
+                           const Exemplar& exemplar, int samples, std::uint64_t seed) {
+  const auto points = surface_samples(mesh, samples, seed, 1);
+  const auto others = surface_samples(*at_next.geometry, samples, seed, 2);
+  WarpingError out;
+  const int nc = std::min(at_t.atlas.channels, at_next.atlas.channels);
+  double sigma = 0.0;
+  for (int c = 0; c < nc; ++c) sigma += exemplar.stddev()[std::min(c, exemplar.channels() - 1)];
+  sigma = std::max(sigma / nc, 1e-6);
+  std::vector<std::array<double, 3>> err(points.size(), {0.0, 0.0, 0.0});
+  tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+    const auto& [f, bary] = points[i];
+    const Vec3 p = point_of(mesh, f, bary, mesh.positions);
+    const Vec3 v = point_of(mesh, f, bary, mesh.velocities);
+    float c0[4], c1[4], c2[4], c3[4];
+    at_t.color_at(p, c0);
+    at_next.color_at(p + v * dt, c1);
+    at_next.color_at(p, c2);
+    const auto& [g, gb] = others[i];
+    at_next.color_at(point_of(*at_next.geometry, g, gb, at_next.geometry->positions), c3);
+    for (int c = 0; c < nc; ++c) {
+      err[i][0] += std::abs(c1[c] - c0[c]) / nc;
+      err[i][1] += std::abs(c2[c] - c0[c]) / nc;
+      err[i][2] += std::abs(c3[c] - c0[c]) / nc;
+    }
+  });
+  for (const auto& e : err) out.advected += e[0], out.fixed += e[1], out.random += e[2];  // in order
+  out.samples = points.size();
+  if (out.samples > 0) {
+    const double k = 1.0 / (static_cast<double>(out.samples) * sigma);
+    out.advected *= k, out.fixed *= k, out.random *= k;
+  }
+  return out;
+}
+
+FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask) {
+  if (a.width != b.width || a.height != b.height || expected.width != a.width || expected.height != a.height ||
+      expected.channels != 2 || mask.size() != static_cast<std::size_t>(a.width) * a.height) {
+    throw InternalError("optical_flow_error: images of different sizes");
+  }
+  auto grey8 = [](const Image& im) {
+    cv::Mat out(im.height, im.width, CV_8UC1);
+    for (int y = 0; y < im.height; ++y) {
+      for (int x = 0; x < im.width; ++x) {
+        const double l = luminance(im, static_cast<std::size_t>(y) * im.width + x);
+        // sRGB-encoded: the flow sees the contrast a viewer sees.
+        const double e = OIIO::linear_to_sRGB(static_cast<float>(std::max(l, 0.0)));
+        out.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(e * 255.0 + 0.5, 0.0, 255.0));
+      }
+    }
+    return out;
+  };
+  const cv::Mat ga = grey8(a), gb = grey8(b);
+  cv::Mat flow;
+  cv::calcOpticalFlowFarneback(ga, gb, flow, 0.5, 4, 15, 5, 7, 1.5, 0);
+  FlowError out;
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * a.width + x;
+      if (!mask[i]) continue;
+      const cv::Point2f f = flow.at<cv::Point2f>(y, x);
+      const double ex = expected.pixels[2 * i], ey = expected.pixels[2 * i + 1];
+      out.endpoint += std::hypot(f.x - ex, f.y - ey);
+      out.speed += std::hypot(ex, ey);
+      const double dot = f.x * ex + f.y * ey + 1.0;
+      const double na = std::sqrt(f.x * f.x + f.y * f.y + 1.0), nb = std::sqrt(ex * ex + ey * ey + 1.0);
+      out.angular += std::acos(std::clamp(dot / (na * nb), -1.0, 1.0)) * 180.0 / M_PI;
+      ++out.pixels;
+    }
+  }
+  if (out.pixels > 0) out.endpoint /= out.pixels, out.angular /= out.pixels, out.speed /= out.pixels;
+  return out;
+}
+
+}  // namespace fluidtex
+
+namespace fluidtex {
+
+namespace {
+
+using Row = std::vector<std::pair<std::string, double>>;  // NaN = not measured
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return std::nan("");
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+/// A number for people (charts, the report's table): 6 significant digits.
+std::string number(double v) {
+  if (!std::isfinite(v)) return "–";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+double get(const Row& row, const std::string& key) {
+  for (const auto& [k, v] : row) {
+    if (k == key) return v;
+  }
+  return std::nan("");
+}
+
+/// One metric against frame as an inline SVG line chart (several series).
+std::string svg_chart(const std::string& title, const std::vector<Row>& rows, const std::vector<std::string>& keys,
+                      const std::vector<std::string>& labels) {
+  const double W = 560, H = 220, L = 56, R = 150, T = 24, B = 30;
+  double x0 = 1e300, x1 = -1e300, y0 = 0.0, y1 = -1e300;
+  for (const Row& r : rows) {
+    const double f = get(r, "frame");
+    for (const std::string& k : keys) {
+      const double v = get(r, k);
+      if (!std::isfinite(v)) continue;
+      x0 = std::min(x0, f), x1 = std::max(x1, f);
+      y0 = std::min(y0, v), y1 = std::max(y1, v);
+    }
+  }
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='11'>";
+  s << "<text x='" << L << "' y='14' font-weight='bold'>" << title << "</text>";
+  if (!(x1 >= x0) || !(y1 > -1e300)) return s.str() + "<text x='60' y='100'>not measured</text></svg>";
+  if (x1 == x0) x1 = x0 + 1;
+  if (y1 <= y0) y1 = y0 + 1e-9 + std::abs(y0) * 0.1;
+  auto X = [&](double f) { return L + (f - x0) / (x1 - x0) * (W - L - R); };
+  auto Y = [&](double v) { return H - B - (v - y0) / (y1 - y0) * (H - T - B); };
+  s << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='" << H - T - B
+    << "' fill='none' stroke='#999'/>";
+  s << "<text x='" << L - 4 << "' y='" << Y(y1) + 4 << "' text-anchor='end'>" << number(y1) << "</text>";
+  s << "<text x='" << L - 4 << "' y='" << Y(y0) + 4 << "' text-anchor='end'>" << number(y0) << "</text>";
+  s << "<text x='" << X(x0) << "' y='" << H - 12 << "'>" << number(x0) << "</text>";
+  s << "<text x='" << X(x1) << "' y='" << H - 12 << "' text-anchor='end'>frame " << number(x1) << "</text>";
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    std::string path;
+    for (const Row& r : rows) {
+      const double v = get(r, keys[k]);
+      if (!std::isfinite(v)) continue;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%s%.1f,%.1f", path.empty() ? "M" : " L", X(get(r, "frame")), Y(v));
+      path += buf;
+    }
+    const char* colour = colours[k % 7];
+    s << "<path d='" << path << "' fill='none' stroke='" << colour << "' stroke-width='1.5'/>";
+    s << "<text x='" << W - R + 8 << "' y='" << T + 12 + 14 * k << "' fill='" << colour << "'>" << labels[k] << "</text>";
+  }
+  return s.str() + "</svg>";
+}
+
+/// n×n windows of the atlas lying inside the charts, at most `limit`, spread
+/// over the candidates in scan order (deterministic).
+std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, int size, int n, int limit) {
+  std::vector<std::uint32_t> sat(static_cast<std::size_t>(size + 1) * (size + 1), 0);  // summed-area table
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      sat[static_cast<std::size_t>(y + 1) * (size + 1) + x + 1] = mask[static_cast<std::size_t>(y) * size + x] +
+          sat[static_cast<std::size_t>(y) * (size + 1) + x + 1] + sat[static_cast<std::size_t>(y + 1) * (size + 1) + x] -
+          sat[static_cast<std::size_t>(y) * (size + 1) + x];
+    }
+  }
+  std::vector<std::pair<int, int>> all;
+  for (int y = 0; y + n <= size; y += n / 2) {
+    for (int x = 0; x + n <= size; x += n / 2) {
+      auto S = [&](int xx, int yy) { return sat[static_cast<std::size_t>(yy) * (size + 1) + xx]; };
+      if (S(x + n, y + n) - S(x, y + n) - S(x + n, y) + S(x, y) == static_cast<std::uint32_t>(n * n)) all.emplace_back(x, y);
+    }
+  }
+  if (static_cast<int>(all.size()) <= limit) return all;
+  std::vector<std::pair<int, int>> out;
+  for (int k = 0; k < limit; ++k) out.push_back(all[static_cast<std::size_t>(k) * all.size() / limit]);
+  return out;
+}
+
+/// Texels per scene unit of a UV mesh in a size² atlas (area ratio).
+double texel_density(const UVMesh& mesh, int size) {
+  double a3 = 0.0, a2 = 0.0;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Tri& t = mesh.triangles[f];
+    a3 += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    const Tri& u = mesh.uv_triangles[f];
+    const Vec2 e1 = mesh.uvs[u[1]] - mesh.uvs[u[0]], e2 = mesh.uvs[u[2]] - mesh.uvs[u[0]];
+    a2 += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x()) * size * size;
+  }
+  return a3 > 0.0 ? std::sqrt(a2 / a3) : 0.0;
+}
+
+std::string png_data_uri(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return "data:image/png;base64," + OIIO::Strutil::base64_encode(bytes.str());
+}
+
+/// Renders frames t and t+1 (one camera, no shading, so that only the
+/// texture moves) and compares their optical flow with the fluid velocity at
+/// t projected to the image, over pixels inside the surface in both renders
+/// (2 pixels away from its silhouette).
+FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
+                                const EvalOptions& options) {
+  std::vector<Vec3> both = at_t.mesh.positions;
+  both.insert(both.end(), at_next.mesh.positions.begin(), at_next.mesh.positions.end());
+  RenderOptions o = options.render;
+  o.width = options.flow_width;
+  o.shade = false;
+  o = framed(both, o);
+  const RenderResult a = render(at_t.mesh, at_t.atlas, o);
+  const RenderResult b = render(at_next.mesh, at_next.atlas, o);
+  const int w = a.color.width, h = a.color.height;
+  const SurfaceIndex velocity(mesh);  // the input frame: its velocities
+  Image expected;
+  expected.width = w, expected.height = h, expected.channels = 2;
+  expected.pixels.assign(static_cast<std::size_t>(w) * h * 2, 0.0f);
+  std::vector<char> mask(static_cast<std::size_t>(w) * h, 0);
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      bool inside = true;
+      for (int dy = -2; dy <= 2 && inside; ++dy) {
+        for (int dx = -2; dx <= 2 && inside; ++dx) {
+          const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+          inside = a.gbuffer.face_at(xx, yy) >= 0 && b.gbuffer.face_at(xx, yy) >= 0;
+        }
+      }
+      if (!inside) continue;
+      const Tri& t = at_t.mesh.triangles[a.gbuffer.face_at(x, y)];
+      const Vec3& l = a.gbuffer.bary_at(x, y);
+      const Vec3 p = l[0] * at_t.mesh.positions[t[0]] + l[1] * at_t.mesh.positions[t[1]] + l[2] * at_t.mesh.positions[t[2]];
+      const SurfacePoint s = velocity.closest_point(p);
+      if (!s.valid()) continue;
+      const Vec2 d = a.camera.image_displacement(p, velocity.velocity_at(s) * dt);
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      expected.pixels[2 * i] = static_cast<float>(d.x());
+      expected.pixels[2 * i + 1] = static_cast<float>(d.y());
+      mask[i] = 1;
+    }
+  });
+  return optical_flow_error(a.color, b.color, expected, mask);
+}
+
+}  // namespace
+
+EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
+  JobOptions job = job_in;
+  job.output.dir = options.run_dir;
+  const std::string atlas_pattern = job.output.atlas(), mesh_pattern = job.output.mesh();
+  if (std::filesystem::path(mesh_pattern).extension() != ".obj") {
+    throw InputError(mesh_pattern, "eval reads the run's UV meshes as OBJ (run with the default --mesh)");
+  }
+  const Sequence sequence(options.input);
+  const Exemplar exemplar = load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar,
+                                          job.synthesis.displacement);
+  const double dt = 1.0 / options.input.fps;
+  const std::string dir = options.run_dir + "/eval";
+  std::filesystem::create_directories(dir);
+
+  // The run's resolved lengths: from a state file when there is one, else
+  // resolved on the first frame as the run did.
+  std::optional<TrackingOptions> resolved;
+  std::vector<Row> rows;
+  std::map<std::uint32_t, int> born;  // live patch id -> first frame seen
+  std::vector<double> lifetimes;      // frames lived by patches that died
+  std::array<std::array<int, kAgeBuckets>, kRetireCauses> retired_by_age{};  // rule x age at removal
+  std::set<std::uint32_t> previous_ids;
+  bool have_previous_state = false;
+  std::optional<TexturedFrame> previous;
+  std::shared_ptr<const FrameMesh> previous_mesh;
+  std::vector<std::string> images;
+  const int image_every = std::max<int>(1, static_cast<int>(sequence.size()) / std::max(1, options.report_images));
+
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    const int frame = sequence.frames()[i];
+    reporter.progress(i, sequence.size(), "eval");
+    auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
+    const std::string atlas_path = FramePattern(atlas_pattern).path(frame);
+    const std::string mesh_path = FramePattern(mesh_pattern).path(frame);
+    if (!std::filesystem::exists(atlas_path)) throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
+    if (!std::filesystem::exists(mesh_path)) throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
+    TexturedFrame current(read_uv_mesh_obj(mesh_path), read_image(atlas_path));
+    Row row{{"frame", frame}};
+
+    // Patch states: coverage, ghosting, life, distortion.
+    const std::string state = state_path(options.run_dir, frame);
+    if (std::filesystem::exists(state)) {
+      const Tracker tracker = Tracker::load(state, mesh);
+      const TrackingOptions& o = tracker.settings().method;
+      if (!resolved) resolved = o;
+      const std::vector<Patch>& patches = tracker.patches();
+      const PatchCounts counts = count_states(patches);
+      row.emplace_back("patches", static_cast<double>(patches.size()));
+      row.emplace_back("fading_in", counts.fading_in);
+      row.emplace_back("active", counts.active);
+      row.emplace_back("fading_out_distorted", counts.fading_out_distorted);
+      row.emplace_back("fading_out_close", counts.fading_out_close);
+      std::set<std::uint32_t> ids;
+      int births = 0;
+      for (const Patch& p : patches) {
+        ids.insert(p.id);
+        if (!previous_ids.count(p.id)) ++births, born.emplace(p.id, frame);
+      }
+      int deaths = 0;
+      for (std::uint32_t id : previous_ids) {
+        if (ids.count(id)) continue;
+        ++deaths;
+        lifetimes.push_back(frame - born[id]);
+        born.erase(id);
+      }
+      row.emplace_back("births", have_previous_state ? births : std::nan(""));
+      row.emplace_back("deaths", have_previous_state ? deaths : std::nan(""));
+      // Churn: births over live patches, and the share of patches active.
+      row.emplace_back("birth_rate", have_previous_state && !patches.empty() ? births / static_cast<double>(patches.size()) : std::nan(""));
+      row.emplace_back("active_share", patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
+      if (have_previous_state) {
+        for (auto& kv : retired_counts(tracker.retired())) row.push_back(std::move(kv));
+        for (const RetiredPatch& r : tracker.retired()) ++retired_by_age[static_cast<int>(r.cause)][age_bucket(r.age)];
+      }
+      previous_ids = std::move(ids);
+      have_previous_state = true;
+
+      const PatchCoverage coverage(patches, o.max_projection);
+      row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage));
+      SynthesisOptions so = synthesis_options(o, job.synthesis);
+      so.aov = true;
+      const Atlas atlas = build_atlas(*tracker.surface(), job.synthesis.atlas);
+      const TexelMap map = build_texel_map(*tracker.surface(), atlas);
+      const SynthesisResult synth = synthesize(*tracker.surface(), atlas, map, patches, exemplar, so);
+      row.emplace_back("uncovered_texels", synth.uncovered_fraction());
+      std::vector<double> count;
+      for (std::size_t t = 0; t < map.face.size(); ++t) {
+        if (map.face[t] >= 0) count.push_back(synth.count.pixels[t]);
+      }
+      row.emplace_back("ghosting_mean", count.empty() ? std::nan("") : std::accumulate(count.begin(), count.end(), 0.0) / count.size());
+      row.emplace_back("ghosting_p95", quantile(count, 0.95));
+
+      std::vector<double> distortion;
+      std::size_t vertices = 0, poor = 0;
+      for (const Patch& p : patches) {
+        for (std::size_t t = 0; t < p.triangles.size(); ++t) {
+          const Tri& tri = p.triangles[t];
+          distortion.push_back(triangle_distortion(p.rest[t], p.positions[tri[0]], p.positions[tri[1]], p.positions[tri[2]]));
+        }
+        for (float q : p.quality) vertices++, poor += q < 0.5f;
+      }
+      row.emplace_back("distortion_median", quantile(distortion, 0.5));
+      row.emplace_back("distortion_p95", quantile(distortion, 0.95));
+      row.emplace_back("distortion_max", distortion.empty() ? std::nan("") : *std::max_element(distortion.begin(), distortion.end()));
+      row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
+    }
+    if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
+
+    // Contrast and spectrum of the atlas written by the run.
+    const std::vector<char> mask = chart_mask(current.mesh, current.atlas.width);
+    const std::vector<double> contrast = contrast_ratio(current.atlas, mask, exemplar);
+    const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
+    for (std::size_t c = 0; c < contrast.size(); ++c) row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
+    const double tile = (2.0 + resolved->selection_margin) * resolved->radius;
+    const double density = texel_density(current.mesh, current.atlas.width);
+    const double scale = exemplar.image().width * resolved->uv_scale / (tile * density);  // exemplar texels per atlas texel
+    double spectrum = std::nan("");
+    for (int n : {64, 32, 16}) {
+      const auto windows = chart_windows(mask, current.atlas.width, n, 8);
+      if (windows.empty() || !(scale > 0.0)) continue;
+      std::vector<double> reference(n / 2 - 1, 0.0);
+      const int crops = 8;
+      for (int k = 0; k < crops; ++k) {
+        const Image crop = exemplar_crop(exemplar, exemplar.image().width * (0.37 * k), exemplar.image().height * (0.61 * k), scale, n);
+        const std::vector<double> s = radial_log_spectrum(crop, 0, 0, n);
+        for (std::size_t b = 0; b < s.size(); ++b) reference[b] += s[b] / crops;
+      }
+      double sum = 0.0;
+      for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(current.atlas, x, y, n), reference);
+      spectrum = sum / static_cast<double>(windows.size());
+      row.emplace_back("spectrum_crop", n);
+      break;
+    }
+    row.emplace_back("spectrum_distance", spectrum);
+
+    // Texture–flow agreement with the previous frame.
+    if (previous) {
+      const WarpingError w = warping_error(*previous_mesh, *previous, current, dt, exemplar, options.samples, options.seed + frame);
+      row.emplace_back("warp_advected", w.advected);
+      row.emplace_back("warp_fixed", w.fixed);
+      row.emplace_back("warp_random", w.random);
+      if (options.flow_width > 0) {
+        const FlowError f = flow_against_velocity(*previous_mesh, *previous, current, dt, options);
+        row.emplace_back("flow_endpoint_px", f.pixels ? f.endpoint : std::nan(""));
+        row.emplace_back("flow_angular_deg", f.pixels ? f.angular : std::nan(""));
+        row.emplace_back("flow_speed_px", f.pixels ? f.speed : std::nan(""));
+      }
+    }
+
+    if (static_cast<int>(i) % image_every == 0 && static_cast<int>(images.size()) < options.report_images) {
+      const std::string png = FramePattern(dir + "/preview.####.png").path(frame);
+      write_image(png, render_textured(current.mesh, current.atlas, options.render), ImageWriteOptions{});
+      images.push_back(png);
+    }
+    rows.push_back(std::move(row));
+    previous.emplace(std::move(current));
+    previous_mesh = mesh;
+  }
+  for (const auto& [id, first] : born) lifetimes.push_back(sequence.frames().back() - first + 1);  // still alive: censored
+
+  // Outputs: per-frame lines, a summary (means over the frames measured), the report.
+  std::string lines;
+  for (const Row& r : rows) lines += to_json_object(r) + "\n";
+  write_text_atomically(dir + "/metrics.jsonl", lines);
+  Row summary{{"frames", static_cast<double>(rows.size())}};
+  std::vector<std::string> keys;
+  for (const Row& r : rows) {
+    for (const auto& [k, v] : r) {
+      if (k != "frame" && k != "spectrum_crop" && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    }
+  }
+  for (const std::string& k : keys) {
+    double sum = 0.0;
+    int n = 0;
+    for (const Row& r : rows) {
+      const double v = get(r, k);
+      if (std::isfinite(v)) sum += v, ++n;
+    }
+    summary.emplace_back(k == "uncovered_area" || k == "uncovered_texels" ? k + "_mean" : k, n ? sum / n : std::nan(""));
+  }
+  summary.emplace_back("patch_lifetime_mean",
+                       lifetimes.empty() ? std::nan("") : std::accumulate(lifetimes.begin(), lifetimes.end(), 0.0) / lifetimes.size());
+  write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
+
+  std::ostringstream html;
+  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << options.run_dir
+       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px 10px;text-align:right}"
+          "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
+  html << "<h1>fluidtex eval</h1><p>Run: <code>" << options.run_dir << "</code>, " << rows.size()
+       << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
+          "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
+          "move, and random points).</p>";
+  html << "<h2>Summary</h2><table>";
+  for (const auto& [k, v] : summary) html << "<tr><th>" << k << "</th><td>" << number(v) << "</td></tr>";
+  html << "</table><h2>Why patches leave</h2><p>Patches flagged to fade out or lost, by the rule that fired "
+          "and their age then (frames since creation), over all frames.</p><table><tr><th>rule</th>";
+  for (int b = 0; b < kAgeBuckets; ++b) {
+    std::string name = age_bucket_name(b);
+    std::replace(name.begin(), name.end(), '_', '-');
+    html << "<th>age " << (b == kAgeBuckets - 1 ? "32+" : name) << "</th>";
+  }
+  html << "<th>all</th></tr>";
+  for (int c = 1; c < kRetireCauses; ++c) {
+    html << "<tr><th>" << to_string(static_cast<RetireCause>(c)) << "</th>";
+    int total = 0;
+    for (int n : retired_by_age[c]) html << "<td>" << n << "</td>", total += n;
+    html << "<td>" << total << "</td></tr>";
+  }
+  html << "</table><h2>Per frame</h2>";
+  const std::vector<std::tuple<std::string, std::vector<std::string>, std::vector<std::string>>> charts = {
+      {"Coverage: uncovered share (should be 0)", {"uncovered_area", "uncovered_texels"}, {"surface area", "chart texels"}},
+      {"Ghosting: patches blended per texel", {"ghosting_mean", "ghosting_p95"}, {"mean", "95th pct"}},
+      {"Patches by state", {"active", "fading_in", "fading_out_distorted", "fading_out_close"}, {"active", "fading in", "out: distorted", "out: too close"}},
+      {"Patch births and deaths", {"births", "deaths"}, {"births", "deaths"}},
+      {"Churn: births over live patches, active share", {"birth_rate", "active_share"}, {"births / live", "active / live"}},
+      {"Patches retired per frame, by rule",
+       {"retired_centre_lost", "retired_emptied", "retired_vertices_lost", "retired_split", "retired_flipped", "retired_quality", "retired_too_close"},
+       {"centre lost", "emptied", "vertices lost", "split", "flipped", "quality", "too close"}},
+      {"Distortion D_T", {"distortion_median", "distortion_p95"}, {"median", "95th pct"}},
+      {"Warping error (σ units)", {"warp_advected", "warp_fixed", "warp_random"}, {"advected", "not moving", "random"}},
+      {"Optical flow vs projected velocity (px)", {"flow_endpoint_px", "flow_speed_px"}, {"endpoint error", "|velocity| (static)"}},
+      {"Optical flow angular error (deg)", {"flow_angular_deg"}, {"angular"}},
+      {"Contrast σ_out / σ_exemplar", {"contrast_r", "contrast_g", "contrast_b", "contrast"}, {"R", "G", "B", "grey"}},
+      {"Spectrum distance to the exemplar", {"spectrum_distance"}, {"log-spectrum RMS"}},
+  };
+  for (const auto& [title, ks, labels] : charts) html << svg_chart(title, rows, ks, labels) << "\n";
+  html << "<h2>Frames</h2>";
+  for (const std::string& png : images) {
+    html << "<figure><img src='" << png_data_uri(png) << "'><figcaption>" << std::filesystem::path(png).filename().string()
+         << "</figcaption></figure>";
+  }
+  html << "</body></html>\n";
+  write_text_atomically(dir + "/report.html", html.str());
+  reporter.progress(sequence.size(), sequence.size(), "eval");
+  return {rows.size(), dir + "/report.html"};
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,101 @@
+#include "fluidtex/inspect/info.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+FrameInfo inspect_frame(const Sequence& sequence, std::size_t index) {
+  FrameInfo info;
+  info.frame = sequence.frames().at(index);
+  info.path = sequence.path_of(info.frame);
+  try {
+    const FrameMesh mesh = sequence.load(index, &info.clean);
+    info.vertices = mesh.num_vertices();
+    info.faces = mesh.num_faces();
+    info.bbox = bounding_box(mesh);
+    info.area = surface_area(mesh);
+    info.mean_edge = mean_edge_length(mesh);
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0, sum = 0.0;
+    for (const Vec3& v : mesh.velocities) {
+      const double s = v.norm();
+      lo = std::min(lo, s);
+      hi = std::max(hi, s);
+      sum += s;
+    }
+    info.speed_min = mesh.velocities.empty() ? 0.0 : lo;
+    info.speed_max = hi;
+    info.speed_mean = mesh.velocities.empty() ? 0.0 : sum / static_cast<double>(mesh.velocities.size());
+  } catch (const InputError& e) {
+    info.error = e.what();
+  }
+  return info;
+}
+
+std::string format_info(const std::vector<FrameInfo>& frames, double fps) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line, "%7s %9s %9s %10s %10s %10s %10s  %s\n", "frame", "vertices",
+                "faces", "area", "edge", "|v| max", "|v| mean", "notes");
+  out += line;
+  std::size_t bad = 0, nonmanifold = 0, cleaned = 0;
+  BBox all;
+  bool first = true;
+  double speed_lo = std::numeric_limits<double>::infinity(), speed_hi = 0.0;
+  std::size_t vmin = std::numeric_limits<std::size_t>::max(), vmax = 0, fmin = vmin, fmax = 0;
+  int comp_max = 0;
+  for (const FrameInfo& f : frames) {
+    if (!f.error.empty()) {
+      ++bad;
+      std::snprintf(line, sizeof line, "%7d  ERROR %s\n", f.frame, f.error.c_str());
+      out += line;
+      continue;
+    }
+    std::string notes = f.clean.components > 1 ? std::to_string(f.clean.components) + " components" : "";
+    if (f.clean.changed() || f.clean.nonmanifold_edges > 0) {
+      if (!notes.empty()) notes += "; ";
+      notes += f.clean.summary();
+    }
+    if (f.clean.changed()) ++cleaned;
+    if (f.clean.nonmanifold_edges > 0) ++nonmanifold;
+    std::snprintf(line, sizeof line, "%7d %9zu %9zu %10.4g %10.4g %10.4g %10.4g  %s\n", f.frame,
+                  f.vertices, f.faces, f.area, f.mean_edge, f.speed_max, f.speed_mean, notes.c_str());
+    out += line;
+    if (first) {
+      all = f.bbox;
+      first = false;
+    } else {
+      all.min = all.min.cwiseMin(f.bbox.min);
+      all.max = all.max.cwiseMax(f.bbox.max);
+    }
+    speed_lo = std::min(speed_lo, f.speed_min);
+    speed_hi = std::max(speed_hi, f.speed_max);
+    vmin = std::min(vmin, f.vertices), vmax = std::max(vmax, f.vertices);
+    fmin = std::min(fmin, f.faces), fmax = std::max(fmax, f.faces);
+    comp_max = std::max(comp_max, f.clean.components);
+  }
+  const std::size_t good = frames.size() - bad;
+  std::snprintf(line, sizeof line, "\n%zu frames (%d..%d), %zu readable, %zu with errors; fps %g\n",
+                frames.size(), frames.empty() ? 0 : frames.front().frame,
+                frames.empty() ? 0 : frames.back().frame, good, bad, fps);
+  out += line;
+  if (good > 0) {
+    std::snprintf(line, sizeof line,
+                  "vertices %zu..%zu, faces %zu..%zu, up to %d components\n"
+                  "bounding box (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n"
+                  "|velocity| %.4g..%.4g scene units/s (%.4g..%.4g per frame)\n",
+                  vmin, vmax, fmin, fmax, comp_max, all.min.x(), all.min.y(), all.min.z(),
+                  all.max.x(), all.max.y(), all.max.z(), all.diagonal(), speed_lo, speed_hi,
+                  speed_lo / fps, speed_hi / fps);
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "problems: %zu unreadable, %zu cleaned, %zu non-manifold\n", bad,
+                cleaned, nonmanifold);
+  out += line;
+  return out;
+}
+
+}  // namespace fluidtex

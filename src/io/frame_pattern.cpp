@@ -1,0 +1,157 @@
+#include "fluidtex/io/frame_pattern.h"
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <regex>
+#include <set>
+
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+namespace {
+
+struct Token {
+  std::size_t pos = std::string::npos;
+  std::size_t len = 0;
+  int width = 1;
+};
+
+// Finds every frame token: a run of '#', printf "%d"/"%0Nd"/"%Nd", Houdini "$F"/"$FN".
+std::vector<Token> find_tokens(const std::string& s) {
+  std::vector<Token> tokens;
+  for (std::size_t i = 0; i < s.size();) {
+    if (s[i] == '#') {
+      std::size_t j = i;
+      while (j < s.size() && s[j] == '#') ++j;
+      tokens.push_back({i, j - i, static_cast<int>(j - i)});
+      i = j;
+    } else if (s[i] == '%') {
+      std::size_t j = i + 1;
+      while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+      if (j < s.size() && s[j] == 'd') {
+        int width = 1;
+        if (j > i + 1) width = std::max(1, std::stoi(s.substr(i + 1, j - i - 1)));
+        tokens.push_back({i, j + 1 - i, width});
+        i = j + 1;
+      } else {
+        ++i;
+      }
+    } else if (s[i] == '$' && i + 1 < s.size() && s[i + 1] == 'F') {
+      std::size_t j = i + 2;
+      while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+      int width = 1;
+      if (j > i + 2) width = std::max(1, std::stoi(s.substr(i + 2, j - i - 2)));
+      tokens.push_back({i, j - i, width});
+      i = j;
+    } else {
+      ++i;
+    }
+  }
+  return tokens;
+}
+
+int parse_int(const std::string& text, const std::string& whole) {
+  int value = 0;
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  auto [ptr, ec] = std::from_chars(first, last, value);
+  if (text.empty() || ec != std::errc() || ptr != last) {
+    throw InputError("", "malformed frame range '" + whole + "' (expected e.g. 1-120 or 1-120x2)");
+  }
+  return value;
+}
+
+}  // namespace
+
+FramePattern::FramePattern(const std::string& pattern) : pattern_(pattern) {
+  // Only the file name may carry the token; folders are taken literally.
+  const auto tokens = find_tokens(pattern);
+  if (tokens.empty()) {
+    throw InputError(pattern, "no frame number token in the pattern (use ####, %04d or $F4)");
+  }
+  if (tokens.size() > 1) {
+    throw InputError(pattern, "more than one frame number token in the pattern");
+  }
+  prefix_ = pattern.substr(0, tokens[0].pos);
+  suffix_ = pattern.substr(tokens[0].pos + tokens[0].len);
+  width_ = tokens[0].width;
+  if (suffix_.find('/') != std::string::npos) {
+    throw InputError(pattern, "the frame number token must be in the file name, not in a folder");
+  }
+}
+
+bool FramePattern::has_token(const std::string& s) { return !find_tokens(s).empty(); }
+
+std::string FramePattern::path(int frame) const {
+  std::string digits = std::to_string(frame < 0 ? -static_cast<long>(frame) : frame);
+  if (static_cast<int>(digits.size()) < width_) digits.insert(0, width_ - digits.size(), '0');
+  return prefix_ + (frame < 0 ? "-" : "") + digits + suffix_;
+}
+
+std::vector<int> FramePattern::discover() const {
+  namespace fs = std::filesystem;
+  const fs::path prefix_path(prefix_);
+  fs::path dir = prefix_path.parent_path();
+  // prefix "dir/name." -> folder "dir", file prefix "name."; prefix "dir/" -> file prefix "".
+  std::string file_prefix = prefix_.substr(prefix_.find_last_of('/') == std::string::npos
+                                               ? 0
+                                               : prefix_.find_last_of('/') + 1);
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return {};
+  std::set<int> frames;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= file_prefix.size() + suffix_.size()) continue;
+    if (name.compare(0, file_prefix.size(), file_prefix) != 0) continue;
+    if (name.compare(name.size() - suffix_.size(), suffix_.size(), suffix_) != 0) continue;
+    std::string middle = name.substr(file_prefix.size(), name.size() - file_prefix.size() - suffix_.size());
+    bool negative = !middle.empty() && middle[0] == '-';
+    if (negative) middle.erase(0, 1);
+    if (middle.empty() || !std::all_of(middle.begin(), middle.end(),
+                                       [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+      continue;
+    }
+    if (static_cast<int>(middle.size()) < width_) continue;
+    // A padded pattern writes exactly `width_` digits unless the number needs more.
+    if (static_cast<int>(middle.size()) > width_ && middle[0] == '0') continue;
+    if (width_ == 1 && middle.size() > 1 && middle[0] == '0') continue;
+    int value = 0;
+    auto [ptr, perr] = std::from_chars(middle.data(), middle.data() + middle.size(), value);
+    if (perr != std::errc() || ptr != middle.data() + middle.size()) continue;
+    if (!entry.is_regular_file(ec)) continue;
+    frames.insert(negative ? -value : value);
+  }
+  return {frames.begin(), frames.end()};
+}
+
+std::vector<int> parse_frame_range(const std::string& text) {
+  if (text.empty()) throw InputError("", "empty frame range");
+  std::set<int> frames;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t comma = text.find(',', start);
+    if (comma == std::string::npos) comma = text.size();
+    const std::string part = text.substr(start, comma - start);
+    if (part.empty()) throw InputError("", "malformed frame range '" + text + "'");
+    int step = 1;
+    std::string span = part;
+    if (const auto x = part.find('x'); x != std::string::npos) {
+      step = parse_int(part.substr(x + 1), text);
+      span = part.substr(0, x);
+      if (step < 1) throw InputError("", "frame range '" + text + "' has a step below 1");
+    }
+    // A '-' after the first character separates first and last (a leading '-' is a sign).
+    const auto dash = span.find('-', 1);
+    const int first = parse_int(span.substr(0, dash), text);
+    const int last = dash == std::string::npos ? first : parse_int(span.substr(dash + 1), text);
+    if (last < first) throw InputError("", "frame range '" + text + "' ends before it starts");
+    for (long f = first; f <= last; f += step) frames.insert(static_cast<int>(f));
+    start = comma + 1;
+  }
+  return {frames.begin(), frames.end()};
+}
+
+}  // namespace fluidtex

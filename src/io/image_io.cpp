@@ -1,0 +1,306 @@
+// Float images in and out through OpenImageIO (see image_io.h).
+//
+// Colour handling is done here with the exact sRGB transfer functions rather
+// than through OIIO's colour management (OCIO), so the result does not depend
+// on an OCIO config found at run time:
+//  * decoding (read): EOTF  c <= 0.04045 ? c/12.92 : ((c+0.055)/1.055)^2.4
+//  * encoding (write): a code value k is chosen as the nearest code value in
+//    sRGB space, implemented as a binary search over the precomputed linear
+//    thresholds EOTF((k+0.5)/max). Pure table look-ups: deterministic, and
+//    decode followed by encode returns the original code values exactly.
+// Alpha is never colour-converted and never (un)premultiplied: values pass
+// through as given ("oiio:UnassociatedAlpha" on both read and write).
+#include "fluidtex/io/image_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+
+#include <OpenImageIO/imageio.h>
+#include <tbb/parallel_for.h>
+
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double srgb_to_linear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return s;
+}
+
+/// OIIO error messages may span several lines; errors here are one line.
+std::string one_line(const std::string& message) {
+  std::string out;
+  size_t start = 0;
+  while (start <= message.size()) {
+    size_t end = message.find('\n', start);
+    if (end == std::string::npos) end = message.size();
+    std::string part = message.substr(start, end - start);
+    while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back()))) part.pop_back();
+    if (!part.empty() && out.find(part) == std::string::npos) {
+      if (!out.empty()) out += "; ";
+      out += part;
+    }
+    start = end + 1;
+  }
+  return out;
+}
+
+bool is_float_type(OIIO::TypeDesc t) {
+  return t.basetype == OIIO::TypeDesc::HALF || t.basetype == OIIO::TypeDesc::FLOAT ||
+         t.basetype == OIIO::TypeDesc::DOUBLE;
+}
+
+/// How the stored values of a file map to linear light.
+enum class Transfer { Linear, SRGB, Gamma };
+
+/// Integer data is sRGB unless tagged linear (or with an explicit gamma);
+/// float data is linear unless explicitly tagged sRGB.
+Transfer transfer_of(const OIIO::ImageSpec& spec, float* gamma) {
+  const std::string cs = lower(spec.get_string_attribute("oiio:ColorSpace"));
+  if (cs.rfind("gammacorrected", 0) == 0 || cs.rfind("gamma", 0) == 0) {
+    *gamma = spec.get_float_attribute("oiio:Gamma", 0.0f);
+    if (*gamma > 0.0f && std::isfinite(*gamma)) return Transfer::Gamma;
+  }
+  if (cs == "srgb" || cs == "srgb_texture" || cs == "srgb_rec709_scene") return Transfer::SRGB;
+  if (cs.find("linear") != std::string::npos || cs == "scene_linear" || cs == "lin_srgb" ||
+      cs == "lin_rec709")
+    return Transfer::Linear;
+  return is_float_type(spec.format) ? Transfer::Linear : Transfer::SRGB;
+}
+
+/// Alpha channel index of `spec`, or -1 (by the spec's own field or by name).
+int alpha_index(const OIIO::ImageSpec& spec) {
+  if (spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels) return spec.alpha_channel;
+  for (int c = 0; c < spec.nchannels && c < static_cast<int>(spec.channelnames.size()); ++c) {
+    const std::string n = lower(spec.channelnames[c]);
+    if (n == "a" || n == "alpha") return c;
+  }
+  return -1;
+}
+
+/// Linear thresholds between successive code values 0..max_code of an sRGB
+/// encoding: code = number of thresholds <= value.
+std::vector<float> srgb_thresholds(int max_code) {
+  std::vector<float> t(static_cast<size_t>(max_code));
+  for (int k = 0; k < max_code; ++k)
+    t[k] = static_cast<float>(srgb_to_linear((k + 0.5) / max_code));
+  return t;
+}
+
+template <typename T>
+T quantise(float v, bool srgb, const std::vector<float>& thresholds, int max_code) {
+  if (!(v > 0.0f)) return 0;  // also NaN
+  if (srgb) {
+    return static_cast<T>(std::upper_bound(thresholds.begin(), thresholds.end(), v) -
+                          thresholds.begin());
+  }
+  if (v >= 1.0f) return static_cast<T>(max_code);
+  return static_cast<T>(std::lround(static_cast<double>(v) * max_code));
+}
+
+template <typename T>
+std::vector<T> encode_integer(const Image& image, int alpha, int max_code) {
+  const std::vector<float> thresholds = srgb_thresholds(max_code);
+  std::vector<T> out(image.pixels.size());
+  const size_t row = static_cast<size_t>(image.width) * image.channels;
+  tbb::parallel_for(0, image.height, [&](int y) {
+    const size_t base = static_cast<size_t>(y) * row;
+    for (size_t i = 0; i < row; ++i) {
+      const int c = static_cast<int>(i % image.channels);
+      out[base + i] = quantise<T>(image.pixels[base + i], c != alpha, thresholds, max_code);
+    }
+  });
+  return out;
+}
+
+enum class Format { Exr, Png, Tiff };
+
+Format format_of(const std::string& path) {
+  const std::string ext = lower(fs::path(path).extension().string());
+  if (ext == ".exr") return Format::Exr;
+  if (ext == ".png") return Format::Png;
+  if (ext == ".tif" || ext == ".tiff") return Format::Tiff;
+  throw InputError(path, "unsupported image extension '" + fs::path(path).extension().string() +
+                             "' (use .exr, .png, .tif or .tiff)");
+}
+
+OIIO::TypeDesc pixel_type(const std::string& path, Format format, PixelDepth depth) {
+  switch (format) {
+    case Format::Exr:
+      if (depth == PixelDepth::Default || depth == PixelDepth::Half) return OIIO::TypeDesc::HALF;
+      if (depth == PixelDepth::Float) return OIIO::TypeDesc::FLOAT;
+      throw InputError(path, "EXR atlases hold half or float pixels, not 8/16-bit integers");
+    case Format::Png:
+      if (depth == PixelDepth::Default || depth == PixelDepth::UInt8) return OIIO::TypeDesc::UINT8;
+      if (depth == PixelDepth::UInt16) return OIIO::TypeDesc::UINT16;
+      throw InputError(path, "PNG holds 8- or 16-bit integers only; use .exr or .tif for float");
+    case Format::Tiff:
+      if (depth == PixelDepth::Default || depth == PixelDepth::UInt16)
+        return OIIO::TypeDesc::UINT16;
+      if (depth == PixelDepth::UInt8) return OIIO::TypeDesc::UINT8;
+      if (depth == PixelDepth::Float) return OIIO::TypeDesc::FLOAT;
+      // OIIO's TIFF writer would silently widen half to float.
+      throw InputError(path, "TIFF atlases hold 8/16-bit integers or float; use .exr for half");
+  }
+  return OIIO::TypeDesc::FLOAT;
+}
+
+std::vector<std::string> channel_names(const Image& image, const ImageWriteOptions& options,
+                                       const std::string& path) {
+  if (!options.channel_names.empty()) {
+    if (static_cast<int>(options.channel_names.size()) != image.channels)
+      throw InternalError(path + ": " + std::to_string(options.channel_names.size()) +
+                          " channel names given for " + std::to_string(image.channels) +
+                          " channels");
+    return options.channel_names;
+  }
+  switch (image.channels) {
+    case 1: return {"Y"};
+    case 2: return {"Y", "A"};
+    case 3: return {"R", "G", "B"};
+    default: {
+      std::vector<std::string> names{"R", "G", "B", "A"};
+      for (int c = 4; c < image.channels; ++c) names.push_back("channel" + std::to_string(c));
+      return names;
+    }
+  }
+}
+
+}  // namespace
+
+void sample_bilinear(const Image& image, double x, double y, float* out, int channels) {
+  const int w = image.width, h = image.height, nc = image.channels;
+  const double fx = std::clamp(x - 0.5, 0.0, static_cast<double>(w - 1));
+  const double fy = std::clamp(y - 0.5, 0.0, static_cast<double>(h - 1));
+  const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const double ax = fx - x0, ay = fy - y0;
+  auto at = [&](int xx, int yy, int c) { return static_cast<double>(image.pixels[(static_cast<std::size_t>(yy) * w + xx) * nc + c]); };
+  for (int c = 0; c < (channels > 0 ? std::min(channels, nc) : nc); ++c) {
+    out[c] = static_cast<float>((1 - ay) * ((1 - ax) * at(x0, y0, c) + ax * at(x1, y0, c)) +
+                                ay * ((1 - ax) * at(x0, y1, c) + ax * at(x1, y1, c)));
+  }
+}
+
+Image read_image(const std::string& path) {
+  auto fail = [&](const std::string& reason) {
+    return InputError(path, "cannot read image: " + reason);
+  };
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw fail("no such file");
+  if (fs::is_directory(path, ec)) throw fail("is a folder");
+
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
+  if (!in) {
+    std::string reason = one_line(OIIO::geterror());
+    if (reason.empty()) reason = "not an image in a format OpenImageIO reads";
+    throw fail(reason);
+  }
+  const OIIO::ImageSpec spec = in->spec();
+  if (spec.deep) throw fail("deep images are not supported");
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw fail("empty image");
+  if (spec.depth > 1) throw fail("volume images are not supported");
+
+  Image image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.nchannels;
+  image.pixels.resize(static_cast<size_t>(image.width) * image.height * image.channels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+    std::string reason = one_line(in->geterror());
+    if (reason.empty()) reason = "read failed (truncated or corrupt file?)";
+    throw fail(reason);
+  }
+  in->close();
+  (void)OIIO::geterror();  // clear any stale global message
+
+  float gamma = 1.0f;
+  const Transfer transfer = transfer_of(spec, &gamma);
+  if (transfer == Transfer::Linear) return image;
+  const int alpha = alpha_index(spec);
+  const size_t row = static_cast<size_t>(image.width) * image.channels;
+  tbb::parallel_for(0, image.height, [&](int y) {
+    float* p = image.pixels.data() + static_cast<size_t>(y) * row;
+    for (size_t i = 0; i < row; ++i) {
+      if (static_cast<int>(i % image.channels) == alpha) continue;
+      const double v = p[i];
+      p[i] = static_cast<float>(transfer == Transfer::SRGB ? srgb_to_linear(v)
+                                                           : std::pow(std::max(v, 0.0), gamma));
+    }
+  });
+  return image;
+}
+
+void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
+  const Format format = format_of(path);
+  const OIIO::TypeDesc type = pixel_type(path, format, options.depth);
+  if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
+      image.pixels.size() !=
+          static_cast<size_t>(image.width) * image.height * image.channels)
+    throw InternalError(path + ": image buffer does not match its " + std::to_string(image.width) +
+                        "x" + std::to_string(image.height) + "x" +
+                        std::to_string(image.channels) + " size");
+  if (format == Format::Png && image.channels > 4)
+    throw InternalError(path + ": PNG holds at most 4 channels, got " +
+                        std::to_string(image.channels));
+
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
+  spec.channelnames = channel_names(image, options, path);
+  spec.alpha_channel = -1;
+  for (int c = 0; c < image.channels; ++c) {
+    const std::string n = lower(spec.channelnames[c]);
+    if (n == "a" || n == "alpha") spec.alpha_channel = c;
+  }
+  const bool integer = !is_float_type(type);
+  spec.attribute("oiio:ColorSpace", integer ? "sRGB" : "Linear");
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  // Byte-identical outputs for golden-file diffs: a constant Software tag (no
+  // version), and an empty DateTime, which stops the EXR and TIFF writers from
+  // stamping the current time into the header.
+  spec.attribute("Software", "fluidtex");
+  spec.attribute("DateTime", "");
+  switch (format) {
+    case Format::Exr: spec.attribute("compression", "zip"); break;
+    case Format::Png: spec.attribute("png:compressionLevel", 6); break;
+    case Format::Tiff: spec.attribute("compression", "zip"); break;
+  }
+
+  write_atomically(path, [&](const fs::path& tmp) {
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out)
+      throw InternalError(path + ": cannot create image writer: " + one_line(OIIO::geterror()));
+    if (!out->open(tmp.string(), spec))
+      throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
+    bool ok = false;
+    if (type == OIIO::TypeDesc::UINT8) {
+      const auto data = encode_integer<std::uint8_t>(image, spec.alpha_channel, 255);
+      ok = out->write_image(OIIO::TypeDesc::UINT8, data.data());
+    } else if (type == OIIO::TypeDesc::UINT16) {
+      const auto data = encode_integer<std::uint16_t>(image, spec.alpha_channel, 65535);
+      ok = out->write_image(OIIO::TypeDesc::UINT16, data.data());
+    } else {
+      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+    }
+    if (!ok || !out->close())
+      throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
+  });
+}
+
+}  // namespace fluidtex

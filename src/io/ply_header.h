@@ -1,0 +1,313 @@
+// PLY header checks for mesh_io.cpp (private to it): parse the header, decide
+// which properties hold positions and velocities, measure binary bodies, and
+// write the canonical header OpenMesh's PLYReader is given. OpenMesh parses
+// the header too, but reports nothing usable (it prints to omerr and returns
+// false), so every check whose failure the user must understand is done here.
+#pragma once
+
+#include <array>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fluidtex/util/error.h"
+
+namespace fluidtex::plyio {
+
+enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::Float32;  ///< value type (list entries for lists)
+  bool is_list = false;
+  PlyType count_type = PlyType::UInt8;  ///< lists only
+};
+
+struct PlyElement {
+  std::string name;
+  std::size_t count = 0;
+  std::vector<PlyProperty> properties;
+  int find(const std::string& prop) const {
+    for (std::size_t i = 0; i < properties.size(); ++i)
+      if (properties[i].name == prop) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+enum class PlyFormat { Ascii, BinaryLE, BinaryBE };
+
+struct PlyHeader {
+  PlyFormat format = PlyFormat::Ascii;
+  std::vector<PlyElement> elements;
+  std::size_t body_offset = 0;  ///< first byte after the end_header line
+};
+
+/// Where the data OpenMesh must deliver lives, by element and property index.
+struct PlyLayout {
+  std::size_t vertex_element = 0, face_element = 0;
+  std::array<int, 3> position_prop{};
+  std::array<PlyType, 3> position_type{};
+  bool has_velocity = false;
+  std::array<int, 3> velocity_prop{-1, -1, -1};
+  std::array<PlyType, 3> velocity_type{};
+};
+
+inline const char* type_name(PlyType t) {
+  static const char* names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
+  return names[static_cast<int>(t)];
+}
+
+inline int type_size(PlyType t) {
+  static const int sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+  return sizes[static_cast<int>(t)];
+}
+
+inline bool is_float(PlyType t) { return t == PlyType::Float32 || t == PlyType::Float64; }
+
+inline bool parse_type(const std::string& s, PlyType& t) {
+  static const std::pair<const char*, PlyType> table[] = {
+      {"char", PlyType::Int8},     {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
+      {"uint8", PlyType::UInt8},   {"short", PlyType::Int16},     {"int16", PlyType::Int16},
+      {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
+      {"int32", PlyType::Int32},   {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
+      {"float", PlyType::Float32}, {"float32", PlyType::Float32}, {"double", PlyType::Float64},
+      {"float64", PlyType::Float64}};
+  for (const auto& [name, type] : table)
+    if (s == name) return t = type, true;
+  return false;
+}
+
+inline std::string canonical_position_name(int axis) { return "fluidtex_p" + std::to_string(axis); }
+inline std::string canonical_velocity_name(int axis) { return "fluidtex_v" + std::to_string(axis); }
+
+/// Parses the header; throws InputError for bad magic, an unsupported format,
+/// unknown types or keywords, or a header without end_header.
+inline PlyHeader parse_ply_header(const std::string& path, const std::string& bytes) {
+  if (bytes.compare(0, 4, "ply\n") != 0 && bytes.compare(0, 5, "ply\r\n") != 0)
+    throw InputError(path, "not a PLY file (bad magic: the file must start with 'ply')");
+  PlyHeader h;
+  bool have_format = false;
+  std::size_t pos = bytes.find('\n') + 1;
+  for (int line_no = 2;; ++line_no) {
+    if (pos >= bytes.size())
+      throw InputError(path, "truncated PLY header (no end_header line)");
+    std::size_t eol = bytes.find('\n', pos);
+    const std::size_t next = eol == std::string::npos ? bytes.size() : eol + 1;
+    if (eol == std::string::npos) eol = bytes.size();
+    std::istringstream line(bytes.substr(pos, eol - pos));
+    pos = next;
+    std::vector<std::string> tok;
+    for (std::string t; line >> t;) tok.push_back(t);
+    auto bad = [&](const std::string& why) {
+      return InputError(path, "malformed PLY header line " + std::to_string(line_no) + ": " + why);
+    };
+    if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
+    if (tok[0] == "end_header") break;
+    if (tok[0] == "format") {
+      if (tok.size() < 2) throw bad("format line without a format");
+      if (tok[1] == "ascii") h.format = PlyFormat::Ascii;
+      else if (tok[1] == "binary_little_endian") h.format = PlyFormat::BinaryLE;
+      else if (tok[1] == "binary_big_endian") h.format = PlyFormat::BinaryBE;
+      else throw InputError(path, "unsupported PLY format '" + tok[1] + "'");
+      have_format = true;
+    } else if (tok[0] == "element") {
+      unsigned long long count = 0;
+      if (tok.size() != 3 ||
+          std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count).ec != std::errc())
+        throw bad("expected 'element <name> <count>'");
+      if (count > 0x7fffffffull) throw bad("element count " + tok[2] + " is too large");
+      h.elements.push_back({tok[1], static_cast<std::size_t>(count), {}});
+    } else if (tok[0] == "property") {
+      if (h.elements.empty()) throw bad("property before any element");
+      PlyProperty p;
+      const bool list = tok.size() == 5 && tok[1] == "list";
+      if (!list && tok.size() != 3) throw bad("expected 'property <type> <name>' or 'property list ...'");
+      const std::string& value_type = list ? tok[3] : tok[1];
+      if (list && !parse_type(tok[2], p.count_type)) throw bad("unknown list count type '" + tok[2] + "'");
+      if (!parse_type(value_type, p.type)) throw bad("unknown property type '" + value_type + "'");
+      if (list && is_float(p.count_type)) throw bad("list count type must be an integer type");
+      p.is_list = list;
+      p.name = tok.back();
+      h.elements.back().properties.push_back(p);
+    } else {
+      throw bad("unknown keyword '" + tok[0] + "'");
+    }
+  }
+  if (!have_format) throw InputError(path, "malformed PLY header: no format line");
+  h.body_offset = pos;
+  return h;
+}
+
+/// Reads one list count at `at` of a binary body (the caller checked bounds).
+inline long long read_count(const std::string& bytes, std::size_t at, PlyType t, bool big_endian) {
+  unsigned char b[4] = {0, 0, 0, 0};
+  const int n = type_size(t);
+  for (int i = 0; i < n; ++i) b[i] = static_cast<unsigned char>(bytes[at + (big_endian ? n - 1 - i : i)]);
+  const unsigned long long u = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<unsigned long long>(b[3]) << 24);
+  switch (t) {
+    case PlyType::Int8: return static_cast<std::int8_t>(u);
+    case PlyType::Int16: return static_cast<std::int16_t>(u);
+    case PlyType::Int32: return static_cast<std::int32_t>(u);
+    default: return static_cast<long long>(u);
+  }
+}
+
+/// Walks a binary body up to the end of the face element; throws "truncated"
+/// when the file is shorter than the header promises.
+inline void check_binary_size(const std::string& path, const PlyHeader& h, const PlyLayout& l,
+                              const std::string& bytes) {
+  const bool be = h.format == PlyFormat::BinaryBE;
+  const std::size_t nv = h.elements[l.vertex_element].count, nf = h.elements[l.face_element].count;
+  // Lower bound from fixed sizes: every face list has at least three indices.
+  std::size_t minimum = h.body_offset;
+  for (std::size_t e = 0; e <= l.face_element; ++e) {
+    std::size_t stride = 0;
+    for (const PlyProperty& p : h.elements[e].properties)
+      stride += p.is_list ? type_size(p.count_type) + (e == l.face_element ? 3 * type_size(p.type) : 0)
+                          : type_size(p.type);
+    minimum += h.elements[e].count * stride;
+  }
+  auto truncated = [&](const std::string& detail) {
+    return InputError(path, "truncated file: " + std::to_string(bytes.size()) + " bytes, but the header's " +
+                                std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                                " faces need " + detail);
+  };
+  if (bytes.size() < minimum) throw truncated("at least " + std::to_string(minimum));
+  std::size_t at = h.body_offset;
+  for (std::size_t e = 0; e < l.face_element; ++e) {
+    for (const PlyProperty& p : h.elements[e].properties) at += h.elements[e].count * type_size(p.type);
+  }
+  const auto& face = h.elements[l.face_element];
+  for (std::size_t f = 0; f < face.count; ++f) {
+    for (const PlyProperty& p : face.properties) {
+      if (!p.is_list) {
+        at += type_size(p.type);
+        continue;
+      }
+      if (at + type_size(p.count_type) > bytes.size()) throw truncated("more (file ends in face " + std::to_string(f) + ")");
+      const long long n = read_count(bytes, at, p.count_type, be);
+      if (n < 0) throw InputError(path, "face " + std::to_string(f) + " has a negative vertex count");
+      at += type_size(p.count_type) + static_cast<std::size_t>(n) * type_size(p.type);
+    }
+    if (at > bytes.size()) throw truncated("more (file ends in face " + std::to_string(f) + ")");
+  }
+}
+
+/// The velocity triples tried, in order, for `attr` (see ReadOptions).
+inline std::vector<std::array<std::string, 3>> velocity_candidates(const std::string& path,
+                                                                   const std::string& attr) {
+  if (attr.empty()) return {{"vx", "vy", "vz"}, {"velocity_x", "velocity_y", "velocity_z"}, {"v_x", "v_y", "v_z"}};
+  if (attr.find(',') == std::string::npos)
+    return {{attr + "_x", attr + "_y", attr + "_z"}, {attr + "x", attr + "y", attr + "z"}};
+  std::array<std::string, 3> names;
+  std::istringstream in(attr);
+  std::string part;
+  int n = 0;
+  while (std::getline(in, part, ',')) {
+    const auto b = part.find_first_not_of(" \t"), e = part.find_last_not_of(" \t");
+    if (n == 3 || b == std::string::npos) throw InputError(path, "--velocity-attr '" + attr + "' must be three comma-separated names or one prefix");
+    names[n++] = part.substr(b, e - b + 1);
+  }
+  if (n != 3) throw InputError(path, "--velocity-attr '" + attr + "' must be three comma-separated names or one prefix");
+  return {names};
+}
+
+/// Validates the header against what fluidtex needs and returns the layout.
+inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, const std::string& bytes,
+                               const std::string& velocity_attr, bool require_velocities) {
+  PlyLayout l;
+  int vi = -1, fi = -1;
+  for (std::size_t e = 0; e < h.elements.size(); ++e) {
+    if (h.elements[e].name == "vertex" && vi < 0) vi = static_cast<int>(e);
+    if (h.elements[e].name == "face" && fi < 0) fi = static_cast<int>(e);
+  }
+  if (vi < 0 || h.elements[vi].count == 0) throw InputError(path, "empty mesh (no vertices)");
+  if (fi < 0 || h.elements[fi].count == 0) throw InputError(path, "empty mesh (no faces)");
+  if (fi < vi) throw InputError(path, "unsupported PLY layout: the face element precedes the vertex element");
+  l.vertex_element = vi;
+  l.face_element = fi;
+  for (int e = 0; e < fi; ++e) {
+    for (const PlyProperty& p : h.elements[e].properties)
+      if (p.is_list)
+        throw InputError(path, "unsupported PLY layout: list property '" + p.name + "' on element '" +
+                                   h.elements[e].name + "' before the faces");
+  }
+  const PlyElement& vertex = h.elements[vi];
+  auto typed = [&](const std::string& name, const char* what) {
+    const int i = vertex.find(name);
+    if (!is_float(vertex.properties[i].type))
+      throw InputError(path, std::string("wrong property type for ") + what + " '" + name + "': " +
+                                 type_name(vertex.properties[i].type) + " (expected float or double)");
+    return i;
+  };
+  const char* axes[] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    if (vertex.find(axes[a]) < 0) throw InputError(path, "no vertex positions (property x, y or z missing)");
+    l.position_prop[a] = typed(axes[a], "position");
+    l.position_type[a] = vertex.properties[l.position_prop[a]].type;
+  }
+  if (require_velocities) {
+    const auto candidates = velocity_candidates(path, velocity_attr);
+    std::string tried;
+    for (const auto& c : candidates) {
+      tried += (tried.empty() ? "" : ", ") + c[0] + "/" + c[1] + "/" + c[2];
+      if (vertex.find(c[0]) < 0 || vertex.find(c[1]) < 0 || vertex.find(c[2]) < 0) continue;
+      for (int a = 0; a < 3; ++a) {
+        l.velocity_prop[a] = typed(c[a], "velocity");
+        l.velocity_type[a] = vertex.properties[l.velocity_prop[a]].type;
+      }
+      l.has_velocity = true;
+      break;
+    }
+    if (!l.has_velocity)
+      throw InputError(path, "no velocity properties (tried " + tried +
+                                 "); name them with --velocity-attr or use --velocity-from-positions");
+  }
+  const PlyElement& face = h.elements[fi];
+  const bool first_is_indices = !face.properties.empty() && face.properties[0].is_list &&
+                                (face.properties[0].name == "vertex_indices" || face.properties[0].name == "vertex_index");
+  if (!first_is_indices) {
+    const bool later = face.find("vertex_indices") >= 0 || face.find("vertex_index") >= 0;
+    throw InputError(path, later ? "unsupported PLY layout: vertex_indices must be the first face property"
+                                 : "faces have no vertex_indices list");
+  }
+  if (is_float(face.properties[0].type))
+    throw InputError(path, std::string("wrong property type for face indices: ") +
+                               type_name(face.properties[0].type) + " (expected an integer type)");
+  if (h.format != PlyFormat::Ascii) check_binary_size(path, h, l, bytes);
+  return l;
+}
+
+/// The header OpenMesh reads: positions and velocities renamed to custom
+/// properties (read at their declared precision instead of through Vec3f),
+/// other properties renamed so that none triggers OpenMesh's special
+/// handling, list counts mapped to the same-size type OpenMesh accepts, and a
+/// trailing empty "vertex" element with x/y/z, which is never read but
+/// satisfies read_ascii's "vertex dimension 3" check.
+inline std::string canonical_ply_header(const PlyHeader& h, const PlyLayout& l) {
+  static const char* formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+  static const char* counts[] = {"uchar", "uchar", "uint16", "uint16", "int", "int"};
+  std::string s = std::string("ply\nformat ") + formats[static_cast<int>(h.format)] + " 1.0\n";
+  for (std::size_t e = 0; e < h.elements.size(); ++e) {
+    const PlyElement& el = h.elements[e];
+    s += "element " + el.name + " " + std::to_string(el.count) + "\n";
+    for (std::size_t i = 0; i < el.properties.size(); ++i) {
+      const PlyProperty& p = el.properties[i];
+      std::string name = "fluidtex_e" + std::to_string(e) + "_" + std::to_string(i);
+      for (int a = 0; a < 3 && e == l.vertex_element; ++a) {
+        if (static_cast<int>(i) == l.position_prop[a]) name = canonical_position_name(a);
+        if (l.has_velocity && static_cast<int>(i) == l.velocity_prop[a]) name = canonical_velocity_name(a);
+      }
+      if (e == l.face_element && i == 0) name = "vertex_indices";
+      s += p.is_list ? std::string("property list ") + counts[static_cast<int>(p.count_type)] + " " +
+                           type_name(p.type) + " " + name + "\n"
+                     : std::string("property ") + type_name(p.type) + " " + name + "\n";
+    }
+  }
+  return s + "element vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+}
+
+}  // namespace fluidtex::plyio

@@ -1,0 +1,74 @@
+#include "fluidtex/io/sequence.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "fluidtex/util/error.h"
+#include "fluidtex/io/mesh_io.h"
+
+namespace fluidtex {
+
+void InputOptions::validate() const {
+  if (pattern.empty()) throw InputError("", "-i/--input: an input frame pattern is required");
+  if (!(std::isfinite(fps) && fps > 0.0)) throw InputError("", "--fps must be > 0");
+}
+
+Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(options.pattern) {
+  options_.validate();
+  if (!options_.frames.empty()) {
+    frames_ = parse_frame_range(options_.frames);
+    for (int f : frames_) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(pattern_.path(f), ec)) {
+        throw InputError(pattern_.path(f), "missing frame " + std::to_string(f) +
+                                               " of the requested range " + options_.frames);
+      }
+    }
+  } else {
+    frames_ = pattern_.discover();
+    if (frames_.empty()) throw InputError(options_.pattern, "no frame matches this pattern");
+  }
+}
+
+FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
+  const int frame = frames_.at(index);
+  const std::string path = pattern_.path(frame);
+  ReadOptions read;
+  read.velocity_attr = options_.velocity_attr;
+  read.require_velocities = !options_.velocity_from_positions;
+  read.clean = false;  // cleaning renumbers vertices: derive velocities first
+  FrameMesh mesh = read_frame(path, read);
+
+  if (options_.velocity_from_positions && frames_.size() > 1) {
+    const std::size_t lo = index > 0 ? index - 1 : index;
+    const std::size_t hi = index + 1 < frames_.size() ? index + 1 : index;
+    auto positions_of = [&](std::size_t i) {
+      if (i == index) return mesh.positions;
+      FrameMesh other = read_frame(pattern_.path(frames_[i]), read);
+      if (other.positions.size() != mesh.positions.size()) {
+        throw InputError(pattern_.path(frames_[i]),
+                         "has " + std::to_string(other.positions.size()) + " vertices but " + path +
+                             " has " + std::to_string(mesh.positions.size()) +
+                             ": --velocity-from-positions needs a constant vertex count and order");
+      }
+      return std::move(other.positions);
+    };
+    const std::vector<Vec3> before = positions_of(lo);
+    const std::vector<Vec3> after = positions_of(hi);
+    const double seconds = static_cast<double>(frames_[hi] - frames_[lo]) / options_.fps;
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      mesh.velocities[v] = (after[v] - before[v]) / seconds;
+    }
+  }
+
+  CleanReport cleaned = clean_mesh(mesh);
+  if (mesh.empty()) throw InputError(path, "empty mesh: no valid triangle left after cleaning");
+  if (options_.strict && cleaned.nonmanifold_edges > 0) {
+    throw InputError(path, std::to_string(cleaned.nonmanifold_edges) +
+                               " non-manifold edges (--strict rejects non-manifold frames)");
+  }
+  if (report) *report = cleaned;
+  return mesh;
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,294 @@
+// UV mesh writers and the OBJ reader (see uv_mesh_io.h).
+//
+// The writers are written by hand rather than through OpenMesh::IO: OpenMesh's halfedge
+// structure cannot hold non-manifold frames (it drops or duplicates faces
+// around complex edges/vertices), and fluid surfaces must be passed through
+// unchanged, vertex for vertex and face for face.
+//
+// Numbers are written as 32-bit floats (what the PLY holds and what DCC tools
+// read) in the shortest text that round-trips (std::to_chars: exact and
+// locale-independent), so the same mesh always gives the same bytes.
+#include "fluidtex/io/uv_mesh_io.h"
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <utility>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/error.h"
+#include "openmesh_reader.h"
+
+namespace fluidtex {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMaterialName = "fluidtex_atlas";
+
+/// Checks the mesh's arrays against each other; a mismatch is a bug upstream.
+void validate(const std::string& path, const UVMesh& mesh) {
+  auto fail = [&](const std::string& what) { throw InternalError(path + ": " + what); };
+  const auto nv = static_cast<long long>(mesh.positions.size());
+  const auto nuv = static_cast<long long>(mesh.uvs.size());
+  if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+    fail("UV mesh has " + std::to_string(mesh.normals.size()) + " normals for " +
+         std::to_string(nv) + " vertices");
+  if (!mesh.uv_triangles.empty() && mesh.uv_triangles.size() != mesh.triangles.size())
+    fail("UV mesh has " + std::to_string(mesh.uv_triangles.size()) + " uv triangles for " +
+         std::to_string(mesh.triangles.size()) + " triangles");
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (mesh.triangles[f][k] < 0 || mesh.triangles[f][k] >= nv)
+        fail("UV mesh triangle " + std::to_string(f) + " has vertex index out of range");
+      if (!mesh.uv_triangles.empty() &&
+          (mesh.uv_triangles[f][k] < 0 || mesh.uv_triangles[f][k] >= nuv))
+        fail("UV mesh triangle " + std::to_string(f) + " has uv index out of range");
+    }
+  }
+  for (const Vec3& p : mesh.positions)
+    if (!p.allFinite()) fail("UV mesh has a non-finite position");
+  for (const Vec3& n : mesh.normals)
+    if (!n.allFinite()) fail("UV mesh has a non-finite normal");
+  for (const Vec2& t : mesh.uvs)
+    if (!t.allFinite()) fail("UV mesh has a non-finite uv");
+}
+
+void append_float(std::string& out, double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, static_cast<float>(v));
+  out.append(buf, r.ptr);
+}
+
+void append_int(std::string& out, long long v) {
+  char buf[24];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
+}
+
+void write_bytes(const std::string& target, const fs::path& tmp, const std::string& bytes) {
+  std::ofstream out(tmp, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw InternalError(target + ": cannot write file");
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+/// The map_Kd reference: as given when relative (taken relative to the OBJ's
+/// folder); an absolute path is made relative to the OBJ's folder.
+std::string texture_reference(const fs::path& obj_path, const std::string& image) {
+  fs::path img(image);
+  if (img.is_absolute()) {
+    const fs::path dir = fs::absolute(obj_path).parent_path();
+    const fs::path rel = img.lexically_relative(dir);
+    if (!rel.empty()) img = rel;
+  }
+  return img.generic_string();
+}
+
+std::string mtl_text(const std::string& texture) {
+  std::string t = "# fluidtex atlas material\n";
+  t += "newmtl ";
+  t += kMaterialName;
+  t += "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd ";
+  t += texture;
+  t += '\n';
+  return t;
+}
+
+std::string obj_text(const UVMesh& mesh, const std::string& mtl_file) {
+  std::string t;
+  t.reserve(mesh.positions.size() * 64 + mesh.triangles.size() * 40);
+  t += "# fluidtex UV mesh\n";
+  if (!mtl_file.empty()) {
+    t += "mtllib ";
+    t += mtl_file;
+    t += '\n';
+  }
+  for (const Vec3& p : mesh.positions) {
+    t += "v ";
+    append_float(t, p.x());
+    t += ' ';
+    append_float(t, p.y());
+    t += ' ';
+    append_float(t, p.z());
+    t += '\n';
+  }
+  for (const Vec2& uv : mesh.uvs) {
+    t += "vt ";
+    append_float(t, uv.x());
+    t += ' ';
+    append_float(t, uv.y());
+    t += '\n';
+  }
+  for (const Vec3& n : mesh.normals) {
+    t += "vn ";
+    append_float(t, n.x());
+    t += ' ';
+    append_float(t, n.y());
+    t += ' ';
+    append_float(t, n.z());
+    t += '\n';
+  }
+  if (!mtl_file.empty()) {
+    t += "usemtl ";
+    t += kMaterialName;
+    t += '\n';
+  }
+  const bool has_uv = !mesh.uv_triangles.empty();
+  const bool has_n = !mesh.normals.empty();
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    t += 'f';
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles[f][k] + 1;
+      t += ' ';
+      append_int(t, v);
+      if (has_uv || has_n) {
+        t += '/';
+        if (has_uv) append_int(t, mesh.uv_triangles[f][k] + 1);
+        if (has_n) {
+          t += '/';
+          append_int(t, v);  // normals are per vertex: same index
+        }
+      }
+    }
+    t += '\n';
+  }
+  return t;
+}
+
+void put_u32_le(std::string& out, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xffu);
+}
+
+void put_f32_le(std::string& out, double v) {
+  put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)));
+}
+
+std::string ply_bytes(const UVMesh& mesh) {
+  // One output vertex per distinct (vertex, uv index) pair used by a corner,
+  // sorted by vertex then uv index; vertices no triangle uses are kept with
+  // uv (0, 0) (uv index -1) so the positions pass through unchanged.
+  const bool has_uv = !mesh.uv_triangles.empty();
+  std::vector<std::pair<int, int>> keys;
+  keys.reserve(mesh.positions.size() + mesh.triangles.size());
+  std::vector<char> used(mesh.positions.size(), 0);
+  for (size_t f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles[f][k];
+      used[v] = 1;
+      keys.emplace_back(v, has_uv ? mesh.uv_triangles[f][k] : -1);
+    }
+  for (size_t v = 0; v < used.size(); ++v)
+    if (!used[v]) keys.emplace_back(static_cast<int>(v), -1);
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  auto index_of = [&](int v, int uv) {
+    return static_cast<std::uint32_t>(
+        std::lower_bound(keys.begin(), keys.end(), std::make_pair(v, uv)) - keys.begin());
+  };
+
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment fluidtex UV mesh\n";
+  out += "element vertex " + std::to_string(keys.size()) + "\n";
+  for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"})
+    out += std::string("property float ") + p + "\n";
+  out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
+  out += "property list uchar int vertex_indices\nend_header\n";
+  out.reserve(out.size() + keys.size() * 32 + mesh.triangles.size() * 13);
+
+  for (const auto& [v, uvi] : keys) {
+    const Vec3& p = mesh.positions[v];
+    const Vec3 n = mesh.normals.empty() ? Vec3::Zero().eval() : mesh.normals[v];
+    const Vec2 uv = uvi >= 0 ? mesh.uvs[uvi] : Vec2::Zero().eval();
+    for (int i = 0; i < 3; ++i) put_f32_le(out, p[i]);
+    for (int i = 0; i < 3; ++i) put_f32_le(out, n[i]);
+    put_f32_le(out, uv.x());
+    put_f32_le(out, uv.y());
+  }
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    out += static_cast<char>(3);
+    for (int k = 0; k < 3; ++k)
+      put_u32_le(out, index_of(mesh.triangles[f][k], has_uv ? mesh.uv_triangles[f][k] : -1));
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::string& mtl_image) {
+  validate(path, mesh);
+  std::string mtl_file;
+  if (!mtl_image.empty()) {
+    // The material first, so the OBJ never names a library that is not there.
+    fs::path mtl_path = fs::path(path).replace_extension(".mtl");
+    mtl_file = mtl_path.filename().string();
+    const std::string text = mtl_text(texture_reference(path, mtl_image));
+    write_atomically(mtl_path, [&](const fs::path& tmp) {
+      write_bytes(mtl_path.string(), tmp, text);
+    });
+  }
+  const std::string text = obj_text(mesh, mtl_file);
+  write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, text); });
+}
+
+void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh) {
+  validate(path, mesh);
+  const std::string bytes = ply_bytes(mesh);
+  write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, bytes); });
+}
+
+void write_uv_mesh(const std::string& path, const UVMesh& mesh) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".obj") return write_uv_mesh_obj(path, mesh);
+  if (ext == ".ply") return write_uv_mesh_ply(path, mesh);
+  throw InputError(path, "unsupported UV mesh extension '" + fs::path(path).extension().string() +
+                             "' (use .obj or .ply)");
+}
+
+UVMesh read_uv_mesh_obj(const std::string& path) {
+  using Mesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+  Mesh m;
+  m.request_halfedge_texcoords2D();
+  m.request_vertex_normals();
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord | OpenMesh::IO::Options::VertexNormal;
+  if (!run_openmesh_reader([&] { return OpenMesh::IO::read_mesh(m, path, opt); })) throw InputError(path, "cannot read UV mesh (OBJ)");
+  if (!opt.check(OpenMesh::IO::Options::FaceTexCoord)) throw InputError(path, "UV mesh has no texture coordinates");
+  UVMesh out;
+  for (auto v : m.vertices()) {
+    const auto p = m.point(v);
+    out.positions.emplace_back(p[0], p[1], p[2]);
+    const auto n = m.normal(v);
+    out.normals.emplace_back(n[0], n[1], n[2]);
+  }
+  for (auto f : m.faces()) {
+    std::vector<int> vs, uvs;
+    for (auto h : m.fh_range(f)) {
+      vs.push_back(m.to_vertex_handle(h).idx());
+      const auto t = m.texcoord2D(h);
+      uvs.push_back(static_cast<int>(out.uvs.size()));
+      out.uvs.emplace_back(t[0], t[1]);
+    }
+    for (std::size_t k = 1; k + 1 < vs.size(); ++k) {
+      out.triangles.push_back({vs[0], vs[k], vs[k + 1]});
+      out.uv_triangles.push_back({uvs[0], uvs[k], uvs[k + 1]});
+    }
+  }
+  return out;
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,368 @@
+#include "fluidtex/job/pipeline.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <optional>
+
+#include <oneapi/tbb/parallel_pipeline.h>
+
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/job/debug_views.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/io/image_io.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/io/sequence.h"
+#include "fluidtex/io/stats.h"
+#include "fluidtex/tracking/tracker.h"
+#include "fluidtex/io/uv_mesh_io.h"
+
+namespace fluidtex {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+std::string checked_pattern(const std::string& given, const std::string& fallback,
+                            std::initializer_list<const char*> extensions, const char* option) {
+  const std::string pattern = given.empty() ? fallback : given;
+  FramePattern parsed(pattern);  // throws without a frame token
+  const std::string ext = lower_extension(pattern);
+  for (const char* e : extensions) {
+    if (ext == e) return pattern;
+  }
+  std::string known;
+  for (const char* e : extensions) known += std::string(known.empty() ? "" : ", ") + e;
+  throw InputError(pattern, std::string(option) + ": unsupported extension '" + ext +
+                                "' (use " + known + ")");
+}
+
+}  // namespace
+
+std::string OutputOptions::atlas() const {
+  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"},
+                         "--atlas");
+}
+
+std::string OutputOptions::mesh() const {
+  return checked_pattern(mesh_pattern, dir + "/mesh.####.obj", {".obj", ".ply"}, "--mesh");
+}
+
+void SynthesisJobOptions::validate() const {
+  atlas.validate();
+  for (const std::string& layer : aov) {
+    if (layer != "weight" && layer != "count" && layer != "patch") {
+      throw InputError("", "--aov: unknown layer '" + layer + "' (use weight, count, patch)");
+    }
+  }
+}
+
+void JobOptions::validate() const {
+  input.validate();
+  tracking.validate();
+  synthesis.validate();
+  if (exemplar.empty() && !synthesis.track_only) {
+    throw InputError("", "-e/--exemplar: an exemplar image is required (or --track-only)");
+  }
+  if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
+  (void)output.atlas();
+  (void)output.mesh();
+  if (threads < 0) throw InputError("", "--threads must be >= 0 (0 = all cores)");
+  flowmap.validate();
+  if (method == TexturingMethod::FlowMap) {
+    if (output.resume) throw InputError("", "--resume: --method flowmap keeps no state to resume from");
+    if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");
+    if (output.debug_views) throw InputError("", "--debug-views: --method flowmap has no patches or disks to show");
+  }
+}
+
+std::string state_path(const std::string& dir, int frame) {
+  return FramePattern(dir + "/state/patches.####.bin").path(frame);
+}
+
+Exemplar load_exemplar(const std::string& path, bool displacement) {
+  Image image = read_image(path);
+  if (displacement && image.channels >= 3) {
+    Image grey;
+    grey.width = image.width, grey.height = image.height, grey.channels = 1;
+    grey.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
+      const float* p = &image.pixels[i * image.channels];
+      grey.pixels[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+    }
+    image = std::move(grey);
+  } else if (displacement && image.channels == 2) {
+    image.channels = 1;  // grey + alpha: keep grey
+    for (std::size_t i = 0; i < static_cast<std::size_t>(image.width) * image.height; ++i) image.pixels[i] = image.pixels[2 * i];
+    image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
+  }
+  if (image.channels == 2) throw InputError(path, "exemplar has 2 channels (expected grey, RGB or RGBA)");
+  for (float v : image.pixels) {
+    if (!std::isfinite(v)) throw InputError(path, "exemplar has NaN or infinite pixels");
+  }
+  return Exemplar(std::move(image));
+}
+
+SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
+  SynthesisOptions synth;
+  synth.blend = so.blend;
+  synth.method = so.method;
+  synth.uv_scale = resolved.uv_scale;
+  synth.radius = resolved.radius;
+  // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
+  // a tile, each patch a different part of it (its random anchor).
+  synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;
+  synth.projection_tolerance = resolved.max_projection;  // as the tracker's coverage test
+  synth.aov = !so.aov.empty();
+  return synth;
+}
+
+namespace {
+
+/// A frame's atlas, texel map, texels (`texels(atlas, map)`, either method)
+/// and writes, with the synthesis numbers and stage seconds in `stats`.
+template <class Texels>
+void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats,
+                 Texels&& texels) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const SynthesisJobOptions& so = options.synthesis;
+  auto t0 = Clock::now();
+  const Atlas atlas = build_atlas(surface, so.atlas);
+  stats.seconds.emplace_back("atlas", seconds_since(t0));
+  t0 = Clock::now();
+  const TexelMap map = build_texel_map(surface, atlas);
+  const SynthesisResult result = texels(atlas, map);
+  const double synth_seconds = seconds_since(t0);
+  stats.seconds.emplace_back("synthesis", synth_seconds);
+
+  t0 = Clock::now();
+  ImageWriteOptions write;
+  write.depth = so.depth;
+  write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
+  for (const std::string& layer : so.aov) {
+    const Image& image = layer == "weight" ? result.weight : layer == "count" ? result.count : result.patch;
+    ImageWriteOptions aov_write;
+    aov_write.depth = layer == "patch" ? PixelDepth::Default : PixelDepth::Float;
+    write_image(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), image, aov_write);
+  }
+  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas));
+  stats.seconds.emplace_back("write", seconds_since(t0));
+
+  stats.uncovered_fraction = result.uncovered_fraction();
+  stats.extra.emplace_back("packing_efficiency", atlas.packing_efficiency);
+  stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
+  stats.extra.emplace_back("chart_texels", static_cast<double>(result.chart_texels));
+  stats.extra.emplace_back("clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
+  stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);
+}
+
+}  // namespace
+
+void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
+                      const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
+                      int frame, FrameStats& stats) {
+  atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
+    return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
+  });
+}
+
+void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
+                              const JobOptions& options, int frame, FrameStats& stats) {
+  atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
+    return synthesize_flowmap(surface, atlas, map, flow, exemplar, options.synthesis.blend,
+                              !options.synthesis.aov.empty());
+  });
+}
+
+JobSummary run_job(const JobOptions& options, Reporter& reporter) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto seconds_since = [](Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  options.validate();
+  const Sequence sequence(options.input);
+  std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
+  if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
+
+  TrackerSettings settings;
+  settings.method = options.tracking;
+  settings.advection = options.advection;
+  settings.motion = options.patch_motion;
+  settings.seed = options.seed;
+  settings.coverage_aware = options.coverage_check;
+  const bool flowmap = options.method == TexturingMethod::FlowMap;
+  const bool write_state = options.output.write_state && !flowmap;  // flowmap keeps no state
+  std::optional<Tracker> tracker;
+  std::optional<FlowMapAdvector> advector;
+  std::size_t first = 0;
+  JobSummary summary;
+
+  if (options.output.resume) {
+    // The newest state whose frame is in the sequence: every output of that
+    // frame was written before it (the state is written last).
+    for (std::size_t i = sequence.size(); i-- > 0;) {
+      const std::string path = state_path(options.output.dir, sequence.frames()[i]);
+      if (!std::filesystem::exists(path)) continue;
+      auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
+      tracker.emplace(Tracker::load(path, std::move(mesh)));
+      first = i + 1;
+      summary.resumed_after = sequence.frames()[i];
+      reporter.info("resuming after frame " + std::to_string(summary.resumed_after) + " (" + path + ")");
+      break;
+    }
+    if (!tracker) reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
+  }
+  if (flowmap) {
+    FlowMapSettings fm;
+    fm.flowmap = options.flowmap;
+    fm.method = options.tracking;
+    fm.seed = options.seed;
+    advector.emplace(fm);
+  } else if (!tracker) {
+    tracker.emplace(settings);
+  }
+
+  StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
+  if (!options.manifest.empty()) write_text_atomically(options.output.dir + "/job.toml", options.manifest);
+  int previous_frame = summary.resumed_after;
+  std::size_t failed = 0;
+
+  // Frames flow through a TBB pipeline: reading frame t+1, tracking and
+  // synthesis overlap; tracking and the final writes stay in frame order.
+  // At most `tokens` frames are in flight, so memory does not grow with the
+  // sequence. Each frame's synthesis works on its own snapshot (surface and
+  // patches), so its output does not depend on what runs beside it.
+  struct Work {
+    std::size_t index = 0;
+    int frame = 0;
+    std::shared_ptr<const FrameMesh> mesh;
+    FrameStats stats;
+    std::shared_ptr<const SurfaceIndex> surface;
+    std::vector<Patch> patches;
+    TrackingOptions resolved;
+    FlowMapFrame flow;  // --method flowmap
+    std::string state;
+  };
+  std::size_t next = first;
+  const std::size_t tokens = 3;
+  tbb::parallel_pipeline(
+      tokens,
+      tbb::make_filter<void, std::shared_ptr<Work>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
+            if (next >= sequence.size()) {
+              fc.stop();
+              return nullptr;
+            }
+            auto work = std::make_shared<Work>();
+            work->index = next++;
+            work->frame = sequence.frames()[work->index];
+            work->stats.frame = work->frame;
+            work->stats.method = to_string(options.method);
+            const auto t0 = Clock::now();
+            CleanReport cleaned;
+            work->mesh = std::make_shared<const FrameMesh>(sequence.load(work->index, &cleaned));
+            if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
+            work->stats.vertices = work->mesh->num_vertices();
+            work->stats.faces = work->mesh->num_faces();
+            work->stats.seconds.emplace_back("read", seconds_since(t0));
+            return work;
+          }) &
+          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::shared_ptr<Work> work) {
+                const int frame = work->frame;
+                reporter.progress(work->index, sequence.size(), "track");
+                const double dt = previous_frame == -1 ? 1.0 / options.input.fps
+                                                       : static_cast<double>(frame - previous_frame) / options.input.fps;
+                if (advector) {
+                  // Flow map: the "track" stage carries the two uv sets to this frame.
+                  const FlowMapStep step = advector->step(work->mesh, dt);
+                  previous_frame = frame;
+                  for (const auto& [stage, secs] : step.seconds) work->stats.seconds.emplace_back(stage, secs);
+                  const std::array<double, 2> w = phase_weights(step.step, options.flowmap.period);
+                  work->stats.extra.emplace_back("weight_a", w[0]);
+                  work->stats.extra.emplace_back("weight_b", w[1]);
+                  if (work->index == first) {
+                    reporter.verbose("flowmap: tile size " + std::to_string(advector->tile_size()) + ", period " +
+                                     std::to_string(options.flowmap.period) + ", axis " + to_string(options.flowmap.axis));
+                  }
+                  work->surface = advector->shared_surface();
+                  work->flow = advector->frame();
+                  return work;
+                }
+                const StepReport step = tracker->step(work->mesh, frame, dt);
+                previous_frame = frame;
+                FrameStats& fs = work->stats;
+                for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+                fs.patches = step.counts;
+                fs.extra.emplace_back("patches_created", step.created);
+                fs.extra.emplace_back("patches_removed", step.removed);
+                fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
+                for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
+                const std::vector<double>& areas = tracker->surface()->face_areas();
+                fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
+                failed += static_cast<std::size_t>(step.failed);
+                if (work->index == first) {
+                  const TrackingOptions& o = tracker->settings().method;
+                  reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " +
+                                   std::to_string(o.thickness) + ", max projection mpt " +
+                                   std::to_string(o.max_projection));
+                }
+                auto t0 = Clock::now();
+                if (options.output.debug_views) {
+                  const std::string dir = options.output.dir + "/debug";
+                  write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
+                  write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
+                  fs.seconds.emplace_back("debug", seconds_since(t0));
+                }
+                work->surface = tracker->shared_surface();
+                work->patches = tracker->patches();
+                work->resolved = tracker->settings().method;
+                if (write_state) work->state = tracker->serialize();
+                return work;
+              }) &
+          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<Work> work) {
+                if (flowmap) {
+                  synthesize_flowmap_frame(*work->surface, work->flow, *exemplar, options, work->frame, work->stats);
+                } else if (exemplar) {
+                  synthesize_frame(*work->surface, work->patches, work->resolved, *exemplar, options, work->frame,
+                                   work->stats);
+                } else {
+                  // Track only: coverage measured on the surface (area with Σw = 0).
+                  const auto t0 = Clock::now();
+                  const PatchCoverage coverage(work->patches, work->resolved.max_projection);
+                  work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, coverage);
+                  work->stats.seconds.emplace_back("coverage", seconds_since(t0));
+                }
+                return work;
+              }) &
+          tbb::make_filter<std::shared_ptr<Work>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> work) {
+                // The state goes last: its presence means the frame is complete (--resume).
+                const auto t0 = Clock::now();
+                if (write_state) write_text_atomically(state_path(options.output.dir, work->frame), work->state);
+                if (!flowmap) work->stats.seconds.emplace_back("state", seconds_since(t0));
+                stats.add(work->stats);
+                ++summary.frames;
+                reporter.progress(work->index + 1, sequence.size(), "written");
+              }));
+  if (failed > 0) {
+    reporter.warn(std::to_string(failed) + " new disks got no patch (degenerate selection or failed LSCM solve)");
+  }
+  reporter.progress(sequence.size(), sequence.size(), "done");
+  summary.seconds = seconds_since(start);
+  return summary;
+}
+
+}  // namespace fluidtex

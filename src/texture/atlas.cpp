@@ -1,0 +1,368 @@
+#include "fluidtex/texture/atlas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fluidtex/geometry/disk_region.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/geometry/parameterization.h"
+
+namespace fluidtex {
+
+void AtlasOptions::validate() const {
+  if (size < 16 || size > 32768) throw InputError("", "--atlas-size must be in [16, 32768]");
+  if (gutter < 1 || gutter > 64) throw InputError("", "--gutter must be in [1, 64]");
+  if (!(normal_cone > -1.0 && normal_cone < 1.0)) throw InputError("", "chart normal cone must be in (-1, 1)");
+}
+
+namespace {
+
+/// A chart flattened in scene units, before packing.
+struct FlatChart {
+  std::vector<std::array<Vec2, 3>> corners;  // per face of the chart
+  Vec2 min = Vec2::Zero(), max = Vec2::Zero();
+};
+
+/// Flattens one chart: LSCM over its faces, then principal-axis rotation so
+/// that its bounding rectangle is tight. A single face, or a chart LSCM
+/// cannot handle, is laid flat face by face (the caller splits it).
+bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatChart& out, double& stretch) {
+  const DiskMesh disk = extract_faces(mesh, faces);
+  std::vector<Vec2> uv;
+  if (!flatten_lscm(disk, uv)) return false;
+  // Principal axes of the uv points.
+  Vec2 mean = Vec2::Zero();
+  for (const Vec2& p : uv) mean += p;
+  mean /= static_cast<double>(uv.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const Vec2& p : uv) cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  Eigen::Matrix2d R = eig.eigenvectors().transpose();
+  if (R.determinant() < 0) R.row(1) *= -1.0;  // a rotation, not a mirror
+  out.corners.resize(faces.size());
+  out.min = Vec2::Constant(std::numeric_limits<double>::infinity());
+  out.max = -out.min;
+  double weighted = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 p = R * (uv[disk.triangles[i][k]] - mean);
+      out.corners[i][k] = p;
+      out.min = out.min.cwiseMin(p);
+      out.max = out.max.cwiseMax(p);
+    }
+    const auto& c = out.corners[i];
+    const double a_uv = 0.5 * std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x());
+    const Tri& t = disk.triangles[i];
+    const double a3 = 0.5 * (disk.positions[t[1]] - disk.positions[t[0]]).cross(disk.positions[t[2]] - disk.positions[t[0]]).norm();
+    if (a3 > 0.0 && a_uv > 0.0) {
+      weighted += a3 * std::max(a_uv / a3, a3 / a_uv);
+      total += a3;
+    }
+  }
+  stretch = total > 0.0 ? weighted / total : 1.0;  // area-weighted mean
+  return true;
+}
+
+/// Share of the chart's bounding box its faces cover (the best a packer
+/// can do with it).
+double box_fill(const FlatChart& fc) {
+  const Vec2 span = fc.max - fc.min;
+  if (!(span.x() > 0.0 && span.y() > 0.0)) return 1.0;
+  double area = 0.0;
+  for (const auto& c : fc.corners) {
+    area += 0.5 * std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x());
+  }
+  return area / (span.x() * span.y());
+}
+
+/// One face laid flat on its own (for charts LSCM could not handle).
+FlatChart flat_face(const FrameMesh& mesh, int f) {
+  const Tri& t = mesh.triangles[f];
+  const Vec3 a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+  const Vec3 x = (b - a).normalized();
+  const Vec3 n = (b - a).cross(c - a);
+  const Vec3 y = n.norm() > 0 ? Vec3(n.cross(x).normalized()) : Vec3::Zero();
+  FlatChart out;
+  out.corners = {{Vec2(0, 0), Vec2((b - a).norm(), 0), Vec2((c - a).dot(x), (c - a).dot(y))}};
+  out.min = out.corners[0][0].cwiseMin(out.corners[0][1]).cwiseMin(out.corners[0][2]);
+  out.max = out.corners[0][0].cwiseMax(out.corners[0][1]).cwiseMax(out.corners[0][2]);
+  return out;
+}
+
+/// A chart's placement: rotation by r·90°, and the lower-left texel of its
+/// footprint's box (gutter included).
+struct Placement {
+  int rotation = 0;
+  Eigen::Vector2i origin{0, 0};
+  Eigen::Vector2i extent{0, 0};
+};
+
+/// Flat coordinates turned by r·90° and moved so that the box starts at 0.
+Vec2 turn(const FlatChart& fc, int r, const Vec2& p) {
+  switch (r) {
+    case 1: return {fc.max.y() - p.y(), p.x() - fc.min.x()};
+    case 2: return {fc.max.x() - p.x(), fc.max.y() - p.y()};
+    case 3: return {p.y() - fc.min.y(), fc.max.x() - p.x()};
+    default: return p - fc.min;
+  }
+}
+
+/// y-range of a triangle within the slab x0 <= x <= x1; false if it misses.
+bool slab_range(const std::array<Vec2, 3>& t, double x0, double x1, double& lo, double& hi) {
+  bool any = false;
+  auto take = [&](double y) {
+    lo = any ? std::min(lo, y) : y;
+    hi = any ? std::max(hi, y) : y;
+    any = true;
+  };
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& a = t[k];
+    const Vec2& b = t[(k + 1) % 3];
+    if (a.x() >= x0 && a.x() <= x1) take(a.y());
+    for (double xs : {x0, x1}) {
+      if ((a.x() - xs) * (b.x() - xs) < 0.0) take(a.y() + (xs - a.x()) / (b.x() - a.x()) * (b.y() - a.y()));
+    }
+  }
+  return any;
+}
+
+/// Per column of `cell` texels, the cells a chart occupies (its footprint
+/// grown by the gutter): [bottom, top); empty columns have bottom > top.
+struct Profile {
+  std::vector<int> bottom, top;
+  int top_max = 0;
+  Eigen::Vector2i extent{0, 0};  // texels
+};
+
+Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, int cell) {
+  const Vec2 span = (r % 2 ? Vec2(fc.max.y() - fc.min.y(), fc.max.x() - fc.min.x()) : Vec2(fc.max - fc.min)) * density;
+  Profile out;
+  out.extent = Eigen::Vector2i(static_cast<int>(std::ceil(span.x())) + 2 * gutter + 1,
+                               static_cast<int>(std::ceil(span.y())) + 2 * gutter + 1);
+  const int cols = (out.extent.x() + cell - 1) / cell;
+  std::vector<double> lo(cols, std::numeric_limits<double>::max()), hi(cols, std::numeric_limits<double>::lowest());
+  const double g = gutter + 0.5;  // where the footprint starts in its box (texel centres at +0.5)
+  for (const auto& corners : fc.corners) {
+    std::array<Vec2, 3> t;
+    for (int k = 0; k < 3; ++k) t[k] = turn(fc, r, corners[k]) * density + Vec2::Constant(g);
+    const double xmin = std::min({t[0].x(), t[1].x(), t[2].x()}), xmax = std::max({t[0].x(), t[1].x(), t[2].x()});
+    const int c0 = std::max(0, static_cast<int>(std::floor((xmin - gutter) / cell)));
+    const int c1 = std::min(cols - 1, static_cast<int>(std::floor((xmax + gutter) / cell)));
+    for (int c = c0; c <= c1; ++c) {
+      double y0, y1;
+      if (!slab_range(t, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0, y1)) continue;
+      lo[c] = std::min(lo[c], y0);
+      hi[c] = std::max(hi[c], y1);
+    }
+  }
+  out.bottom.assign(cols, 1);
+  out.top.assign(cols, 0);
+  for (int c = 0; c < cols; ++c) {
+    if (lo[c] > hi[c]) continue;
+    out.bottom[c] = std::max(0, static_cast<int>(std::floor((lo[c] - gutter) / cell)));
+    out.top[c] = static_cast<int>(std::ceil((hi[c] + gutter) / cell));
+    out.top_max = std::max(out.top_max, out.top[c]);
+  }
+  out.extent.y() = std::max(out.extent.y(), out.top_max * cell);
+  out.extent.x() = cols * cell;
+  return out;
+}
+
+/// Packs chart shapes, not their boxes (the "Tetris" packing of Lévy et
+/// al. 2002, Sec. 5): the atlas keeps a horizon (per column of cells, the
+/// top of what is placed); each chart, largest first, is dropped in the
+/// column and rotation (of four) where it comes to rest wasting the least
+/// area under it, where raising the horizon's maximum counts as wasting a
+/// full row. Concave footprints nest into each other. Deterministic (ties:
+/// lower column, then lower rotation). False when the charts do not fit.
+bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, int gutter,
+                 std::vector<Placement>& out) {
+  const int cell = std::max(1, size / 512);
+  const int cols = size / cell, rows = size / cell;
+  const std::size_t m = flat.size();
+  std::vector<std::array<Profile, 4>> profiles(m);
+  std::vector<double> area(m, 0.0);
+  tbb::parallel_for(std::size_t(0), m, [&](std::size_t c) {
+    for (int r = 0; r < 4; ++r) profiles[c][r] = chart_profile(flat[c], r, density, gutter, cell);
+    for (std::size_t k = 0; k < profiles[c][0].bottom.size(); ++k) {
+      area[c] += std::max(0, profiles[c][0].top[k] - profiles[c][0].bottom[k]);
+    }
+  });
+  std::vector<int> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+  std::vector<int> horizon(cols, 0);
+  int horizon_max = 0;
+  out.assign(m, Placement{});
+  for (int i : order) {
+    long best_score = std::numeric_limits<long>::max();
+    int best_x = -1, best_y = 0, best_r = 0;
+    for (int r = 0; r < 4; ++r) {
+      const Profile& p = profiles[i][r];
+      const int w = static_cast<int>(p.bottom.size());
+      if (w > cols || p.top_max > rows) continue;
+      for (int x = 0; x + w <= cols; ++x) {
+        int y = 0;
+        for (int c = 0; c < w; ++c) {
+          if (p.bottom[c] <= p.top[c]) y = std::max(y, horizon[x + c] - p.bottom[c]);
+        }
+        if (y + p.top_max > rows) continue;
+        long waste = static_cast<long>(std::max(0, y + p.top_max - horizon_max)) * cols;
+        for (int c = 0; c < w; ++c) {
+          if (p.bottom[c] <= p.top[c]) waste += y + p.bottom[c] - horizon[x + c];
+        }
+        if (waste < best_score) best_score = waste, best_x = x, best_y = y, best_r = r;
+      }
+    }
+    if (best_x < 0) return false;
+    const Profile& p = profiles[i][best_r];
+    for (std::size_t c = 0; c < p.bottom.size(); ++c) {
+      if (p.bottom[c] <= p.top[c]) horizon[best_x + c] = std::max(horizon[best_x + c], best_y + p.top[c]);
+    }
+    horizon_max = std::max(horizon_max, best_y + p.top_max);
+    out[i].rotation = best_r;
+    out[i].origin = Eigen::Vector2i(best_x * cell, best_y * cell);
+    out[i].extent = p.extent;
+  }
+  return true;
+}
+
+}  // namespace
+
+Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
+  options.validate();
+  const FrameMesh& mesh = surface.mesh();
+  const std::size_t nf = mesh.triangles.size();
+  Atlas atlas;
+  atlas.size = options.size;
+  atlas.face_chart.assign(nf, -1);
+  atlas.corner_px.assign(nf, {});
+
+  // 1–2. Segment into disk-like charts bounded by a normal cone, flatten
+  // each (in parallel, each into its own slot), and segment again, smaller,
+  // the faces of charts LSCM could not flatten or flattened with too much
+  // area distortion; single faces are always flat.
+  std::vector<std::vector<int>> final_faces;
+  std::vector<FlatChart> final_flat;
+  std::vector<double> final_stretch;
+  std::vector<int> pending(nf);
+  std::iota(pending.begin(), pending.end(), 0);
+  std::size_t max_faces = options.max_chart_faces;
+  std::vector<char> assigned(nf, 0);
+  while (!pending.empty()) {
+    std::vector<std::vector<int>> chart_faces;
+    for (int seed : pending) {
+      if (assigned[seed]) continue;
+      const Vec3 n0 = surface.face_normals()[seed];
+      const Tri& st = mesh.triangles[seed];
+      const Vec3 c0 = (mesh.positions[st[0]] + mesh.positions[st[1]] + mesh.positions[st[2]]) / 3.0;
+      DiskRegionOptions region;
+      region.accept = [&](int f) { return !assigned[f] && surface.face_normals()[f].dot(n0) > options.normal_cone; };
+      region.priority = [&](int f) {
+        const Tri& t = mesh.triangles[f];
+        return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c0).squaredNorm();
+      };
+      region.max_faces = max_faces;
+      std::vector<int> faces = grow_disk_region(surface, seed, region);
+      for (int f : faces) assigned[f] = 1;
+      chart_faces.push_back(std::move(faces));
+    }
+    std::vector<FlatChart> flat(chart_faces.size());
+    std::vector<double> stretch(chart_faces.size(), 1.0);
+    std::vector<char> ok(chart_faces.size(), 1);
+    tbb::parallel_for(std::size_t(0), chart_faces.size(), [&](std::size_t c) {
+      if (chart_faces[c].size() == 1) flat[c] = flat_face(mesh, chart_faces[c][0]);
+      else ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch &&
+                   (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
+    });
+    pending.clear();
+    for (std::size_t c = 0; c < chart_faces.size(); ++c) {
+      if (ok[c]) {
+        final_faces.push_back(std::move(chart_faces[c]));
+        final_flat.push_back(std::move(flat[c]));
+        final_stretch.push_back(stretch[c]);
+        continue;
+      }
+      ++atlas.failed_charts;
+      for (int f : chart_faces[c]) {
+        assigned[f] = 0;
+        pending.push_back(f);
+      }
+    }
+    std::sort(pending.begin(), pending.end());
+    max_faces = std::max<std::size_t>(1, max_faces / 4);
+  }
+
+  // 3. Common density: the largest (bisection) at which the charts pack.
+  double area3 = 0.0;
+  for (double a : surface.face_areas()) area3 += a;
+  const int n = options.size;
+  std::vector<Placement> placement;
+  double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
+  for (int iter = 0; iter < 14; ++iter) {  // density to 1/16000 of the 100% bound
+    const double mid = 0.5 * (lo + hi);
+    if (pack_shapes(final_flat, mid, n, options.gutter, placement)) lo = mid;
+    else hi = mid;
+  }
+  if (!(lo > 0.0) || !pack_shapes(final_flat, lo, n, options.gutter, placement)) {
+    throw InternalError("atlas: " + std::to_string(final_flat.size()) + " charts do not fit in " + std::to_string(n) +
+                        "² texels; raise --atlas-size");
+  }
+  atlas.texels_per_unit = lo;
+
+  // 4. Corner positions in texels.
+  atlas.charts.resize(final_faces.size());
+  double chart_area_px = 0.0;
+  for (std::size_t c = 0; c < final_faces.size(); ++c) {
+    Chart& chart = atlas.charts[c];
+    chart.faces = std::move(final_faces[c]);
+    chart.origin = placement[c].origin;
+    chart.extent = placement[c].extent;
+    chart.stretch = final_stretch[c];
+    const FlatChart& fc = final_flat[c];
+    const Vec2 offset = placement[c].origin.cast<double>() + Vec2::Constant(options.gutter + 0.5);
+    auto place = [&](const Vec2& p) { return Vec2(turn(fc, placement[c].rotation, p) * lo + offset); };
+    for (std::size_t i = 0; i < chart.faces.size(); ++i) {
+      const int f = chart.faces[i];
+      atlas.face_chart[f] = static_cast<int>(c);
+      for (int k = 0; k < 3; ++k) atlas.corner_px[f][k] = place(fc.corners[i][k]);
+      chart.area3 += surface.face_areas()[f];
+    }
+    chart_area_px += chart.area3 * lo * lo;
+  }
+  atlas.packing_efficiency = chart_area_px / (static_cast<double>(n) * n);
+  return atlas;
+}
+
+UVMesh atlas_uv_mesh(const SurfaceIndex& surface, const Atlas& atlas) {
+  const FrameMesh& mesh = surface.mesh();
+  UVMesh out;
+  out.positions = mesh.positions;
+  out.normals = surface.vertex_normals();
+  out.triangles = mesh.triangles;
+  out.uv_triangles.resize(mesh.triangles.size());
+  std::unordered_map<std::uint64_t, int> shared;  // (vertex, chart) -> uv index
+  const double inv = 1.0 / atlas.size;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t key = (static_cast<std::uint64_t>(mesh.triangles[f][k]) << 32) |
+                                static_cast<std::uint32_t>(atlas.face_chart[f]);
+      auto [it, inserted] = shared.emplace(key, static_cast<int>(out.uvs.size()));
+      if (inserted) {
+        const Vec2& p = atlas.corner_px[f][k];
+        out.uvs.emplace_back(p.x() * inv, 1.0 - p.y() * inv);
+      }
+      out.uv_triangles[f][k] = it->second;
+    }
+  }
+  return out;
+}
+
+}  // namespace fluidtex

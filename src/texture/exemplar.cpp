@@ -1,0 +1,61 @@
+#include "fluidtex/texture/exemplar.h"
+
+#include <cmath>
+
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+Exemplar::Exemplar(Image image) : image_(std::move(image)) {
+  if (image_.width < 1 || image_.height < 1 || image_.channels < 1) throw InputError("", "empty exemplar image");
+  channels_ = image_.channels >= 3 ? 3 : 1;
+  const std::size_t n = static_cast<std::size_t>(image_.width) * image_.height;
+  for (int c = 0; c < channels_; ++c) {
+    double sum = 0.0, sum2 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = image_.pixels[i * image_.channels + c];
+      sum += v;
+      sum2 += v * v;
+    }
+    const double mean = sum / static_cast<double>(n);
+    mean_[c] = static_cast<float>(mean);
+    stddev_[c] = static_cast<float>(std::sqrt(std::max(0.0, sum2 / static_cast<double>(n) - mean * mean)));
+  }
+}
+
+Exemplar Exemplar::load(const std::string& path) {
+  Image image = read_image(path);
+  if (image.channels == 2) throw InputError(path, "exemplar has 2 channels (expected grey, RGB or RGBA)");
+  for (float v : image.pixels) {
+    if (!std::isfinite(v)) throw InputError(path, "exemplar has NaN or infinite pixels");
+  }
+  try {
+    return Exemplar(std::move(image));
+  } catch (const InputError& e) {
+    throw InputError(path, e.problem());
+  }
+}
+
+void Exemplar::sample(double u, double v, float* out) const {
+  const int w = image_.width, h = image_.height, nc = image_.channels;
+  // Texel centres at (i + ½)/w; v up, rows down.
+  const double x = u * w - 0.5;
+  const double y = (1.0 - v) * h - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double tx = x - fx, ty = y - fy;
+  auto wrap = [](long i, int n) {
+    const long r = i % n;
+    return static_cast<int>(r < 0 ? r + n : r);
+  };
+  const int x0 = wrap(static_cast<long>(fx), w), x1 = wrap(static_cast<long>(fx) + 1, w);
+  const int y0 = wrap(static_cast<long>(fy), h), y1 = wrap(static_cast<long>(fy) + 1, h);
+  const float* p00 = &image_.pixels[(static_cast<std::size_t>(y0) * w + x0) * nc];
+  const float* p10 = &image_.pixels[(static_cast<std::size_t>(y0) * w + x1) * nc];
+  const float* p01 = &image_.pixels[(static_cast<std::size_t>(y1) * w + x0) * nc];
+  const float* p11 = &image_.pixels[(static_cast<std::size_t>(y1) * w + x1) * nc];
+  const float a = static_cast<float>((1 - tx) * (1 - ty)), b = static_cast<float>(tx * (1 - ty));
+  const float c = static_cast<float>((1 - tx) * ty), d = static_cast<float>(tx * ty);
+  for (int k = 0; k < channels_; ++k) out[k] = a * p00[k] + b * p10[k] + c * p01[k] + d * p11[k];
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,648 @@
+#include "fluidtex/texture/synthesis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <tuple>
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fluidtex/tracking/advection.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/util/random.h"
+
+namespace fluidtex {
+
+const char* to_string(Blend b) { return b == Blend::ContrastPreserving ? "contrast" : "linear"; }
+const char* to_string(SynthesisMethod m) { return m == SynthesisMethod::Raster ? "raster" : "exact"; }
+
+Blend blend_from_string(const std::string& s) {
+  if (s == "contrast") return Blend::ContrastPreserving;
+  if (s == "linear") return Blend::Linear;
+  throw InputError("", "--blend must be contrast or linear (got '" + s + "')");
+}
+
+SynthesisMethod synthesis_from_string(const std::string& s) {
+  if (s == "raster") return SynthesisMethod::Raster;
+  if (s == "exact") return SynthesisMethod::Exact;
+  throw InputError("", "--synthesis must be raster or exact (got '" + s + "')");
+}
+
+namespace {
+
+constexpr int kTile = 64;
+
+/// 2D barycentric coordinates of p in (a, b, c); false when degenerate.
+bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out) {
+  const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+  if (!(std::abs(det) > 1e-300)) return false;
+  const double l1 = ((p.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (p.y() - a.y())) / det;
+  const double l2 = ((b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y())) / det;
+  out = Vec3(1.0 - l1 - l2, l1, l2);
+  return true;
+}
+
+/// Per-texel sums, in double so that the fixed summation order is the only
+/// thing that decides the result. A contribution's weight is its core (the
+/// paper's K_S·K_t) plus λ times its coverage tail, λ = 1 − Σcore/ε clamped
+/// to [0, 1] (see SynthesisOptions::radius): core and tail sums are kept
+/// apart and combined once the texel's Σcore is known.
+struct Accumulator {
+  int channels;
+  std::vector<double> sum, tail_sum;  // channels per texel: Σ core·c, Σ tail·c
+  std::vector<double> sum_w, sum_w2, tail_w, tail_w2, cross, best_w;  // Σcore, Σcore², Σtail, Σtail², Σcore·tail
+  std::vector<int> count, tail_count, best_patch, last_patch;
+  Accumulator(std::size_t n, int c)
+      : channels(c), sum(n * c, 0.0), tail_sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), tail_w(n, 0.0),
+        tail_w2(n, 0.0), cross(n, 0.0), best_w(n, 0.0), count(n, 0), tail_count(n, 0), best_patch(n, -1),
+        last_patch(n, -1) {}
+};
+
+/// A contribution with no core weight: only its tail, blended (and its
+/// exemplar looked up) only if its texel turns out (nearly) bare.
+struct TailOnly {
+  std::size_t texel;  // tile-local
+  int patch;
+  Vec2 uv;
+  double w;
+};
+
+/// Adds patch contributions to a tile's texels (once per patch and texel).
+struct Contributor {
+  const std::vector<Patch>& patches;
+  const std::vector<std::vector<float>>& core;  // per patch and vertex: core_weight
+  const Exemplar& exemplar;
+  const SynthesisOptions& options;
+  double lookup_scale;  // s / tile_size
+
+  /// Full weight w (patch.weight interpolated) and core weight at the
+  /// barycentrics `l` of triangle `tri` of `patch`.
+  std::pair<double, double> weights(int patch, const Tri& tri, const Vec3& l) const {
+    const Patch& p = patches[patch];
+    const std::vector<float>& c = core[patch];
+    return {l[0] * p.weight[tri[0]] + l[1] * p.weight[tri[1]] + l[2] * p.weight[tri[2]],
+            l[0] * c[tri[0]] + l[1] * c[tri[1]] + l[2] * c[tri[2]]};
+  }
+
+  void sample(int patch, const Vec2& uv, double* centred) const {
+    const Patch& p = patches[patch];
+    float r[3];
+    exemplar.sample(p.anchor.x() + lookup_scale * uv.x(), p.anchor.y() + lookup_scale * uv.y(), r);
+    for (int c = 0; c < exemplar.channels(); ++c) centred[c] = blend_term(options.blend, r[c], exemplar.mean()[c]);
+  }
+
+  void add(Accumulator& acc, std::vector<TailOnly>& tails, std::size_t i, int patch, const Vec2& uv, double w,
+           double core) const {
+    if (!(w > 0.0) || acc.last_patch[i] == patch) return;
+    acc.last_patch[i] = patch;
+    const double tail = std::max(0.0, w - core);
+    if (!(core > 0.0)) {
+      tails.push_back({i, patch, uv, tail});
+      return;
+    }
+    double centred[4] = {0, 0, 0, 0};
+    sample(patch, uv, centred);
+    const int nc = acc.channels;
+    for (int c = 0; c < nc; ++c) {
+      acc.sum[i * nc + c] += core * centred[c];
+      acc.tail_sum[i * nc + c] += tail * centred[c];
+    }
+    acc.sum_w[i] += core;
+    acc.sum_w2[i] += core * core;
+    acc.tail_w[i] += tail;
+    acc.tail_w2[i] += tail * tail;
+    acc.cross[i] += core * tail;
+    ++acc.count[i];
+    if (core > acc.best_w[i]) acc.best_w[i] = core, acc.best_patch[i] = patch;
+  }
+
+  /// λ of texel i (1: bare of cores, the tails fill it; 0: the cores alone).
+  double tail_share(const Accumulator& acc, std::size_t i) const {
+    const double epsilon = kCoverageTail * options.uv_scale;
+    return std::clamp(1.0 - acc.sum_w[i] / epsilon, 0.0, 1.0);
+  }
+
+  /// Adds the tail-only contributions of texels with λ > 0, in their order.
+  void add_tails(Accumulator& acc, const std::vector<TailOnly>& tails) const {
+    const int nc = acc.channels;
+    for (const TailOnly& t : tails) {
+      const double lambda = tail_share(acc, t.texel);
+      if (!(lambda > 0.0)) continue;
+      double centred[4] = {0, 0, 0, 0};
+      sample(t.patch, t.uv, centred);
+      for (int c = 0; c < nc; ++c) acc.tail_sum[t.texel * nc + c] += t.w * centred[c];
+      acc.tail_w[t.texel] += t.w;
+      acc.tail_w2[t.texel] += t.w * t.w;
+      ++acc.tail_count[t.texel];
+      if (lambda * t.w > acc.best_w[t.texel]) acc.best_w[t.texel] = lambda * t.w, acc.best_patch[t.texel] = t.patch;
+    }
+  }
+};
+
+}  // namespace
+
+bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
+                   int channels, float* out) {
+  bool out_of_range = false;
+  for (int c = 0; c < channels; ++c) {
+    const double v = blend == Blend::ContrastPreserving ? sum[c] / std::sqrt(sum_w2) + mean[c]  // Eq. 7
+                                                        : sum[c] / sum_w;
+    out_of_range = out_of_range || v < 0.0 || v > 1.0;
+    out[c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
+  }
+  return out_of_range;
+}
+
+TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
+  const int n = atlas.size;
+  const std::size_t nf = surface.mesh().triangles.size();
+  TexelMap map;
+  map.size = n;
+  map.face.assign(static_cast<std::size_t>(n) * n, -1);
+  map.bary.assign(static_cast<std::size_t>(n) * n, Vec3::Zero());
+  // Charts own disjoint rectangles: rasterise them in parallel, faces of a
+  // chart in order (the first face to claim a texel keeps it).
+  tbb::parallel_for(std::size_t(0), atlas.charts.size(), [&](std::size_t c) {
+    for (int f : atlas.charts[c].faces) {
+      const auto& p = atlas.corner_px[f];
+      const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+      const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5))), x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
+      const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5))), y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          Vec3 l;
+          if (!bary2(Vec2(x + 0.5, y + 0.5), p[0], p[1], p[2], l)) continue;
+          if (l.minCoeff() < -1e-9) continue;
+          const std::size_t i = static_cast<std::size_t>(y) * n + x;
+          if (map.face[i] >= 0) continue;
+          map.face[i] = f;
+          map.bary[i] = l.cwiseMax(0.0) / l.cwiseMax(0.0).sum();
+        }
+      }
+    }
+  });
+  // Group texels by face (counting sort, ascending texel index per face).
+  map.face_start.assign(nf + 1, 0);
+  for (int f : map.face) {
+    if (f >= 0) ++map.face_start[f + 1];
+  }
+  for (std::size_t f = 0; f < nf; ++f) map.face_start[f + 1] += map.face_start[f];
+  map.texels.resize(map.face_start[nf]);
+  std::vector<std::uint32_t> fill(map.face_start.begin(), map.face_start.end() - 1);
+  for (std::size_t i = 0; i < map.face.size(); ++i) {
+    if (map.face[i] >= 0) map.texels[fill[map.face[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  return map;
+}
+
+void dilate(Image& image, std::vector<char>& mask, int rings) {
+  const int w = image.width, h = image.height, nc = image.channels;
+  if (w <= 0 || h <= 0 || rings <= 0) return;
+  // Only tiles within `rings` texels of a filled texel can change: list the
+  // tiles (of at least `rings` texels) next to one holding a filled texel.
+  const int tile = std::max(kTile, rings);
+  const int tw = (w + tile - 1) / tile, th = (h + tile - 1) / tile;
+  std::vector<char> filled(static_cast<std::size_t>(tw) * th, 0);
+  tbb::parallel_for(0, th, [&](int ty) {
+    for (int y = ty * tile; y < std::min(h, (ty + 1) * tile); ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (mask[static_cast<std::size_t>(y) * w + x]) filled[static_cast<std::size_t>(ty) * tw + x / tile] = 1;
+      }
+    }
+  });
+  std::vector<int> active;
+  for (int ty = 0; ty < th; ++ty) {
+    for (int tx = 0; tx < tw; ++tx) {
+      bool near = false;
+      for (int dy = -1; dy <= 1 && !near; ++dy) {
+        for (int dx = -1; dx <= 1 && !near; ++dx) {
+          const int x = tx + dx, y = ty + dy;
+          near = x >= 0 && y >= 0 && x < tw && y < th && filled[static_cast<std::size_t>(y) * tw + x];
+        }
+      }
+      if (near) active.push_back(ty * tw + tx);
+    }
+  }
+  std::vector<char> next;
+  for (int ring = 0; ring < rings; ++ring) {
+    next = mask;
+    tbb::parallel_for(std::size_t(0), active.size(), [&](std::size_t a) {
+      const int tx = active[a] % tw, ty = active[a] / tw;
+      for (int y = ty * tile; y < std::min(h, (ty + 1) * tile); ++y) {
+        for (int x = tx * tile; x < std::min(w, (tx + 1) * tile); ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * w + x;
+          if (mask[i]) continue;
+          float acc[4] = {0, 0, 0, 0};
+          int k = 0;
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int xx = x + dx, yy = y + dy;
+              if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+              const std::size_t j = static_cast<std::size_t>(yy) * w + xx;
+              if (!mask[j]) continue;
+              for (int c = 0; c < nc; ++c) acc[c] += image.pixels[j * nc + c];
+              ++k;
+            }
+          }
+          if (k == 0) continue;
+          for (int c = 0; c < nc; ++c) image.pixels[i * nc + c] = acc[c] / static_cast<float>(k);
+          next[i] = 1;
+        }
+      }
+    });
+    mask.swap(next);
+  }
+}
+
+SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
+                           const std::vector<Patch>& patches, const Exemplar& exemplar,
+                           const SynthesisOptions& options) {
+  if (!(options.tile_size > 0.0)) throw InternalError("synthesis: tile size must be > 0");
+  if (!(options.radius > 0.0)) throw InternalError("synthesis: disk radius must be > 0");
+  const int n = atlas.size;
+  const std::size_t texel_count = static_cast<std::size_t>(n) * n;
+  const int nc = exemplar.channels();
+  const int tiles = (n + kTile - 1) / kTile;
+  const std::size_t tile_count = static_cast<std::size_t>(tiles) * tiles;
+  std::vector<std::vector<float>> core(patches.size());
+  tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
+    core[p].resize(patches[p].positions.size());
+    for (std::size_t v = 0; v < core[p].size(); ++v) core[p][v] = core_weight(patches[p], v, options.radius, options.uv_scale);
+  });
+  const Contributor contribute{patches, core, exemplar, options, options.uv_scale / options.tile_size};
+  const double tolerance = options.projection_tolerance;
+  SynthesisResult result;
+
+  // Tiles holding at least one chart texel; the others are skipped.
+  std::vector<char> tile_live(tile_count, 0);
+  tbb::parallel_for(0, tiles, [&](int ty) {
+    for (int y = ty * kTile; y < std::min(n, (ty + 1) * kTile); ++y) {
+      for (int x = 0; x < n; ++x) {
+        if (map.face[static_cast<std::size_t>(y) * n + x] >= 0) tile_live[static_cast<std::size_t>(ty) * tiles + x / kTile] = 1;
+      }
+    }
+  });
+
+  // Raster: every patch triangle binned into the atlas tiles it may touch,
+  // in patch order; each tile then runs its list in that order.
+  struct Job {
+    int patch, tri;
+    int regions;  // −1: raster in one chart; else index into region_lists (exact)
+  };
+  std::vector<std::vector<Job>> jobs;
+  // Exact jobs: per surface face under the patch triangle, the atlas
+  // rectangle (inclusive) outside which none of the face's texels can
+  // project into the patch triangle.
+  struct Region {
+    int face;
+    int x0, y0, x1, y1;
+  };
+  std::vector<std::vector<Region>> region_lists;
+  std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
+  std::vector<std::uint8_t> tri_rim;          // bit k: edge k (corners k, k+1) is on the patch's boundary
+  std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
+  // Texels just outside a patch's boundary edge still take it (the same
+  // in-plane slack as the exact projection): the corners of a polygonal
+  // rim between two patch border points would be holes otherwise.
+  const double slack_px = 0.1 * tolerance * atlas.texels_per_unit;
+  const int pad = static_cast<int>(std::ceil(slack_px));
+  std::unique_ptr<PatchLocator> locator;
+
+  if (options.method == SynthesisMethod::Exact) {
+    // The reference: every texel projected through the patch triangles near it.
+    locator = std::make_unique<PatchLocator>(patches, tolerance);
+  } else {
+    jobs.resize(tile_count);
+    // Bin every patch triangle into the atlas tiles it may touch, in patch
+    // order; then each tile runs its list in that order.
+    for (std::size_t p = 0; p < patches.size(); ++p) tri_px_base[p + 1] = tri_px_base[p] + patches[p].triangles.size();
+    tri_px.resize(tri_px_base.back());
+    tri_rim.assign(tri_px_base.back(), 0);
+    // Faces touching (by a vertex) a face of another chart. A patch triangle
+    // with a corner over one of them may reach into the other chart, which
+    // its atlas corners in one chart cannot show: unless its atlas box shows
+    // it inside its chart, it goes the exact way.
+    const FrameMesh& mesh = surface.mesh();
+    std::vector<int> vertex_chart(mesh.positions.size(), -1);
+    std::vector<char> mixed(mesh.positions.size(), 0);
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+      for (int v : mesh.triangles[f]) {
+        if (vertex_chart[v] < 0) vertex_chart[v] = atlas.face_chart[f];
+        else if (vertex_chart[v] != atlas.face_chart[f]) mixed[v] = 1;
+      }
+    }
+    std::vector<char> chart_border(mesh.triangles.size(), 0);
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+      for (int v : mesh.triangles[f]) chart_border[f] |= mixed[v];
+    }
+    // Per patch, in parallel: its boundary edges and where its triangles go
+    // (tile, job). Then merged in patch order, so every tile's list is in
+    // patch order whatever the thread count.
+    struct Bins {
+      std::vector<std::pair<int, Job>> placed;     // (tile, job); job.texels indexes `lists`
+      std::vector<std::vector<Region>> lists;
+      std::size_t exact = 0;
+    };
+    std::vector<Bins> bins(patches.size());
+    tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
+      const Patch& patch = patches[p];
+      Bins& out = bins[p];
+      const std::vector<std::uint8_t> rim_bits = boundary_edge_bits(patch.triangles);
+      std::copy(rim_bits.begin(), rim_bits.end(), tri_rim.begin() + static_cast<std::ptrdiff_t>(tri_px_base[p]));
+      if (!(patch.kt > 0.0)) return;
+      auto place_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
+        x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
+        x1 = std::min(tiles - 1, x1 / kTile), y1 = std::min(tiles - 1, y1 / kTile);
+        for (int ty = y0; ty <= y1; ++ty) {
+          for (int tx = x0; tx <= x1; ++tx) out.placed.emplace_back(ty * tiles + tx, job);
+        }
+      };
+      for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+        const Tri& tri = patch.triangles[t];
+        if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
+        const int c0 = atlas.face_chart[patch.projections[tri[0]].face];
+        bool one_chart = true, near_border = false;
+        for (int k = 0; k < 3; ++k) {
+          const int f = patch.projections[tri[k]].face;
+          one_chart = one_chart && atlas.face_chart[f] == c0;
+          near_border = near_border || chart_border[f];
+        }
+        auto& px = tri_px[tri_px_base[p] + t];
+        Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
+        if (one_chart) {
+          for (int k = 0; k < 3; ++k) {
+            const SurfacePoint& s = patch.projections[tri[k]];
+            const auto& corner = atlas.corner_px[s.face];
+            px[k] = s.bary[0] * corner[0] + s.bary[1] * corner[1] + s.bary[2] * corner[2];
+          }
+          lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+        }
+        if (one_chart && near_border) {
+          // Corners in one chart next to another: the triangle stays in its
+          // chart when every texel of its box (grown by a texel and the rim
+          // slack) belongs to that chart; if it crosses the chart's border,
+          // its atlas box reaches the gutter.
+          const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad - 1);
+          const int x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad + 1);
+          const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad - 1);
+          const int y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad + 1);
+          for (int y = y0; y <= y1 && one_chart; ++y) {
+            for (int x = x0; x <= x1 && one_chart; ++x) {
+              const int f = map.face[static_cast<std::size_t>(y) * n + x];
+              one_chart = f >= 0 && atlas.face_chart[f] == c0;
+            }
+          }
+        }
+        if (one_chart) {
+          place_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad,
+                    static_cast<int>(std::floor(lo.y() - 0.5)) - pad, static_cast<int>(std::ceil(hi.x())) + pad,
+                    static_cast<int>(std::ceil(hi.y())) + pad);
+        } else {
+          ++out.exact;
+          Vec3 lo = patch.positions[tri[0]], hi = lo;
+          for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
+          // Surface triangles under the patch triangle: its box grown by the
+          // in-plane slack and the chord's sagitta (a quarter of the normal
+          // tolerance); the normal tolerance itself is applied per texel.
+          const Vec3 grow = Vec3::Constant(0.25 * tolerance);
+          // A texel's point covers only if it lies in the prism of the
+          // triangle (grown by the in-plane slack) ± tolerance along its
+          // normal; on the face's plane that is inside the orthogonal
+          // projection of the prism's corners, whose atlas box bounds the texels.
+          const Vec3 tn = (patch.positions[tri[1]] - patch.positions[tri[0]])
+                              .cross(patch.positions[tri[2]] - patch.positions[tri[0]])
+                              .normalized();
+          const Vec3 tu = (patch.positions[tri[1]] - patch.positions[tri[0]]).normalized(), tv = tn.cross(tu);
+          const double slack = 0.1 * tolerance;  // project_to_patch_triangle's in-plane slack
+          std::vector<Vec3> prism;
+          for (int k = 0; k < 3; ++k) {
+            for (int corner = 0; corner < 8; ++corner) {
+              prism.push_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
+                              ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance : -tolerance) * tn);
+            }
+          }
+          const double margin = 1.0;  // texel centres
+          std::vector<Region> regions;
+          std::vector<int> touched;
+          for (int f : surface.faces_in_box(lo - grow, hi + grow)) {
+            if (map.face_start[f] == map.face_start[f + 1]) continue;
+            const Tri& ft = surface.mesh().triangles[f];
+            const Vec3& a = surface.mesh().positions[ft[0]];
+            const Vec3 e1 = surface.mesh().positions[ft[1]] - a, e2 = surface.mesh().positions[ft[2]] - a;
+            const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2), den = d00 * d11 - d01 * d01;
+            const auto& corner = atlas.corner_px[f];
+            Vec2 rlo = Vec2::Constant(std::numeric_limits<double>::max()), rhi = -rlo;
+            if (den > 0.0 && std::isfinite(tn.squaredNorm())) {
+              for (const Vec3& q : prism) {  // unclamped barycentrics of q's projection on the face plane
+                const Vec3 v = q - a;
+                const double d20 = v.dot(e1), d21 = v.dot(e2);
+                const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den;
+                const Vec2 px = (1.0 - l1 - l2) * corner[0] + l1 * corner[1] + l2 * corner[2];
+                rlo = rlo.cwiseMin(px), rhi = rhi.cwiseMax(px);
+              }
+            } else {  // degenerate: the whole face
+              for (int k = 0; k < 3; ++k) rlo = rlo.cwiseMin(corner[k]), rhi = rhi.cwiseMax(corner[k]);
+            }
+            // Clipped to the face's own texels.
+            const Vec2 flo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
+            const Vec2 fhi = corner[0].cwiseMax(corner[1]).cwiseMax(corner[2]);
+            rlo = rlo.cwiseMax(flo), rhi = rhi.cwiseMin(fhi);
+            const Region r{f, std::max(0, static_cast<int>(std::floor(rlo.x() - 0.5 - margin))),
+                           std::max(0, static_cast<int>(std::floor(rlo.y() - 0.5 - margin))),
+                           std::min(n - 1, static_cast<int>(std::ceil(rhi.x() - 0.5 + margin))),
+                           std::min(n - 1, static_cast<int>(std::ceil(rhi.y() - 0.5 + margin)))};
+            if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+            regions.push_back(r);
+            for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
+              for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) touched.push_back(ty * tiles + tx);
+            }
+          }
+          if (regions.empty()) continue;
+          std::sort(touched.begin(), touched.end());
+          touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(out.lists.size())};
+          for (int tile : touched) out.placed.emplace_back(tile, job);
+          out.lists.push_back(std::move(regions));
+        }
+      }
+    });
+    for (Bins& b : bins) {
+      const int offset = static_cast<int>(region_lists.size());
+      for (auto& list : b.lists) region_lists.push_back(std::move(list));
+      for (auto [tile, job] : b.placed) {
+        if (job.regions >= 0) job.regions += offset;
+        jobs[tile].push_back(job);
+      }
+      result.exact_triangles += b.exact;
+    }
+  }
+
+  // Per tile, in parallel: accumulate into tile-local sums (each texel's
+  // contributions in patch order), then resolve Eq. 7 (or linear), clamp,
+  // and fill the outputs of the tile's texels.
+  Image& color = result.color;
+  auto layer = [&](Image& im, int channels) {
+    im.width = im.height = n;
+    im.channels = channels;
+    im.pixels.assign(texel_count * channels, 0.0f);
+  };
+  layer(color, nc);
+  if (options.aov) {
+    layer(result.weight, 1);
+    layer(result.count, 1);
+    layer(result.patch, 3);
+  }
+  std::vector<char> mask(texel_count, 0);
+  struct Tally {
+    std::size_t chart = 0, bare = 0, clamped = 0;
+  };
+  std::vector<Tally> tally(tile_count);
+  tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t tile) {
+    if (!tile_live[tile]) return;
+    const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
+    const int tx1 = std::min(n, tx0 + kTile), ty1 = std::min(n, ty0 + kTile);
+    Accumulator acc(static_cast<std::size_t>(kTile) * kTile, nc);
+    std::vector<TailOnly> tails;
+    auto local = [&](std::size_t i) {
+      return static_cast<std::size_t>(static_cast<int>(i / n) - ty0) * kTile + (static_cast<int>(i % n) - tx0);
+    };
+    if (locator) {
+      std::vector<PatchHit> hits;
+      for (int y = ty0; y < ty1; ++y) {
+        for (int x = tx0; x < tx1; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * n + x;
+          if (map.face[i] < 0) continue;
+          const SurfacePoint s = surface.at(map.face[i], map.bary[i]);
+          locator->locate(s.position, surface.normal_at(s), hits);
+          for (const PatchHit& h : hits) {
+            const auto [w, c] = contribute.weights(h.patch, patches[h.patch].triangles[h.tri], h.bary);
+            contribute.add(acc, tails, local(i), h.patch, h.uv, w, c);
+          }
+        }
+      }
+    } else {
+      // Exact hits wait until the patch's last job: as in locate(), the
+      // patch's nearest triangle gives a texel its uv and weight. A raster
+      // hit of the same patch, added at once, takes precedence.
+      struct Pending {
+        double dist2 = std::numeric_limits<double>::infinity();
+        Vec2 uv = Vec2::Zero();
+        double w = 0.0, core = 0.0;
+      };
+      std::vector<Pending> pending(static_cast<std::size_t>(kTile) * kTile);
+      std::vector<std::size_t> pending_texels;
+      int pending_patch = -1;
+      auto flush = [&] {
+        for (std::size_t j : pending_texels) {
+          contribute.add(acc, tails, j, pending_patch, pending[j].uv, pending[j].w, pending[j].core);
+          pending[j] = Pending{};
+        }
+        pending_texels.clear();
+      };
+      for (const Job& job : jobs[tile]) {
+        const Patch& patch = patches[job.patch];
+        const Tri& tri = patch.triangles[job.tri];
+        if (job.patch != pending_patch) {
+          flush();
+          pending_patch = job.patch;
+        }
+        if (job.regions < 0) {
+          const auto& px = tri_px[tri_px_base[job.patch] + job.tri];
+          const int chart = atlas.face_chart[patch.projections[tri[0]].face];
+          const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+          const std::uint8_t rim = tri_rim[tri_px_base[job.patch] + job.tri];
+          const int x0 = std::max(tx0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad);
+          const int x1 = std::min(tx1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad);
+          const int y0 = std::max(ty0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad);
+          const int y1 = std::min(ty1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad);
+          for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+              const std::size_t i = static_cast<std::size_t>(y) * n + x;
+              if (map.face[i] < 0 || atlas.face_chart[map.face[i]] != chart) continue;
+              Vec3 l;
+              const Vec2 centre(x + 0.5, y + 0.5);
+              if (!bary2(centre, px[0], px[1], px[2], l)) continue;
+              if (l.minCoeff() < -1e-9) {
+                // Outside: only across the patch's own boundary edges, within the slack.
+                bool across_rim = rim != 0;
+                for (int j = 0; j < 3; ++j) {
+                  if (l[j] < -1e-9 && !(rim & (1u << ((j + 1) % 3)))) across_rim = false;
+                }
+                if (!across_rim) continue;
+                const auto lift = [](const Vec2& v) { return Vec3(v.x(), v.y(), 0.0); };
+                l = barycentric(lift(centre), lift(px[0]), lift(px[1]), lift(px[2]));
+                const Vec2 closest = l[0] * px[0] + l[1] * px[1] + l[2] * px[2];
+                if ((closest - centre).norm() > slack_px) continue;
+              }
+              const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+              const auto [w, c] = contribute.weights(job.patch, tri, l);
+              contribute.add(acc, tails, local(i), job.patch, uv, w, c);
+            }
+          }
+        } else {
+          for (const Region& r : region_lists[job.regions]) {
+            for (int y = std::max(r.y0, ty0); y <= std::min(r.y1, ty1 - 1); ++y) {
+              for (int x = std::max(r.x0, tx0); x <= std::min(r.x1, tx1 - 1); ++x) {
+                const std::size_t i = static_cast<std::size_t>(y) * n + x;
+                if (map.face[i] != r.face) continue;
+                const SurfacePoint s = surface.at(r.face, map.bary[i]);
+                Vec3 l;
+                double dist2;
+                if (project_to_patch_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, l, dist2)) {
+                  Pending& slot = pending[local(i)];
+                  if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
+                  if (std::isinf(slot.dist2)) pending_texels.push_back(local(i));
+                  slot.dist2 = dist2;
+                  slot.uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+                  std::tie(slot.w, slot.core) = contribute.weights(job.patch, tri, l);
+                }
+              }
+            }
+          }
+        }
+      }
+      flush();
+    }
+    contribute.add_tails(acc, tails);
+    Tally& t = tally[tile];
+    std::vector<double> sum(nc);
+    for (int y = ty0; y < ty1; ++y) {
+      for (int x = tx0; x < tx1; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * n + x;
+        if (map.face[i] < 0) continue;
+        const std::size_t j = local(i);
+        ++t.chart;
+        mask[i] = 1;
+        const double lambda = contribute.tail_share(acc, j);
+        for (int c = 0; c < nc; ++c) sum[c] = acc.sum[j * nc + c] + lambda * acc.tail_sum[j * nc + c];
+        const double sum_w = acc.sum_w[j] + lambda * acc.tail_w[j];
+        const double sum_w2 = acc.sum_w2[j] + 2.0 * lambda * acc.cross[j] + lambda * lambda * acc.tail_w2[j];
+        if (options.aov) {
+          result.weight.pixels[i] = static_cast<float>(sum_w);
+          result.count.pixels[i] = static_cast<float>(acc.count[j] + (lambda > 0.0 ? acc.tail_count[j] : 0));
+          if (acc.best_patch[j] >= 0) {
+            const auto rgb = id_color(patches[acc.best_patch[j]].id);
+            for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
+          }
+        }
+        if (!(sum_w > 0.0)) {
+          ++t.bare;
+          for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
+          continue;
+        }
+        t.clamped += resolve_blend(options.blend, sum.data(), sum_w, sum_w2, exemplar.mean(), nc, &color.pixels[i * nc]);
+      }
+    }
+  });
+  for (const Tally& t : tally) {
+    result.chart_texels += t.chart;
+    result.uncovered_texels += t.bare;
+    result.clamped_texels += t.clamped;
+  }
+  dilate(color, mask, 8);
+  return result;
+}
+
+}  // namespace fluidtex

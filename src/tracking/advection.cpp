@@ -1,0 +1,262 @@
+#include "fluidtex/tracking/advection.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+const char* to_string(Advection a) { return a == Advection::Euler ? "euler" : "heun"; }
+
+Advection advection_from_string(const std::string& s) {
+  if (s == "euler") return Advection::Euler;
+  if (s == "heun") return Advection::Heun;
+  throw InputError("", "--advection must be euler or heun (got '" + s + "')");
+}
+
+const char* to_string(PatchMotion m) { return m == PatchMotion::Vertex ? "vertex" : "smooth"; }
+
+PatchMotion patch_motion_from_string(const std::string& s) {
+  if (s == "vertex") return PatchMotion::Vertex;
+  if (s == "smooth") return PatchMotion::Smooth;
+  throw InputError("", "--patch-motion must be smooth or vertex (got '" + s + "')");
+}
+
+Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                   Advection scheme) {
+  const Vec3 v0 = previous.velocity_at(from);
+  const Vec3 guess = from.position + v0 * dt;
+  if (scheme != Advection::Heun) return guess;
+  const SurfacePoint at = next.closest_point(guess);
+  if (!at.valid()) return guess;
+  return from.position + 0.5 * (v0 + next.velocity_at(at)) * dt;
+}
+
+namespace {
+
+using Basis = Eigen::Matrix<double, SmoothMap::kTerms, 1>;
+
+/// Monomials of u/d, v/d by degree: 1 | u v | u² uv v² | u³ u²v uv² v³.
+Basis polynomial_basis(const Vec2& uv, double scale) {
+  const double u = uv.x() / scale, v = uv.y() / scale;
+  Basis b;
+  b << 1.0, u, v, u * u, u * v, v * v, u * u * u, u * u * v, u * v * v, v * v * v;
+  return b;
+}
+
+}  // namespace
+
+Vec3 SmoothMap::operator()(const Vec2& uv) const { return coefficients.transpose() * polynomial_basis(uv, scale); }
+
+bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const TrackingOptions& options,
+                    SmoothMap& map) {
+  const double scale = options.radius;
+  const std::size_t nv = patch.uvs.size();
+  std::vector<double> area(nv, 0.0);
+  for (const Tri& t : patch.triangles) {
+    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
+    const double a = std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / 6.0;
+    for (int v : t) area[v] += a;
+  }
+  // Normal equations of the weighted fit; lower degrees come first, so the
+  // leading 6×6 and 3×3 blocks are the quadratic and the affine fits'.
+  constexpr int n = SmoothMap::kTerms;
+  Eigen::Matrix<double, n, n> ata = Eigen::Matrix<double, n, n>::Zero();
+  Eigen::Matrix<double, n, 3> atb = Eigen::Matrix<double, n, 3>::Zero();
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double w = area[v] * radial_weight(patch.uvs[v].norm(), options);
+    if (!(w > 0.0)) continue;
+    const Basis b = polynomial_basis(patch.uvs[v], scale);
+    ata.noalias() += w * b * b.transpose();
+    atb.noalias() += w * b * targets[v].transpose();
+  }
+  map = SmoothMap{};
+  map.scale = scale;
+  // Accept a fit only when its normal matrix is well conditioned (the uv
+  // spread is a fair share of d in every direction the terms need).
+  auto solve = [&](int terms) {
+    const Eigen::MatrixXd m = ata.topLeftCorner(terms, terms);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
+    if (eig.info() != Eigen::Success || !(eig.eigenvalues()(0) > 1e-6 * eig.eigenvalues()(terms - 1))) return false;
+    map.coefficients.topRows(terms) = m.ldlt().solve(atb.topRows(terms));
+    return map.coefficients.allFinite();
+  };
+  if (solve(n)) return true;
+  map.coefficients.setZero();
+  if (solve(6)) return true;
+  map.coefficients.setZero();
+  return solve(3);
+}
+
+namespace {
+
+/// A point whose closest surface point is on the rim of an open surface and
+/// that lies beyond it in the tangent plane has left the fluid region (an
+/// outflow boundary of the 2D scenes): remove it rather than squash it onto
+/// the rim, which would only distort the patch. `p.distance` is the offset.
+bool left_through_rim(const SurfacePoint& p, const SurfaceIndex& surface, double max_projection) {
+  return p.distance > 0.1 * max_projection && surface.on_boundary(p);
+}
+
+}  // namespace
+
+AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                          const TrackingOptions& options, Advection scheme, PatchMotion motion) {
+  const double max_projection = options.max_projection, radius = options.radius;
+  const std::size_t nv = patch.positions.size();
+  std::vector<Vec3> targets(nv);
+  for (std::size_t v = 0; v < nv; ++v) targets[v] = advect_target(patch.projections[v], previous, next, dt, scheme);
+  Vec3 centre_target;
+  SmoothMap map;
+  std::vector<Vec3> raw;  // the vertices' own targets, when the map replaces them
+  if (motion == PatchMotion::Smooth && fit_smooth_map(patch, targets, options, map)) {
+    raw = targets;
+    for (std::size_t v = 0; v < nv; ++v) targets[v] = map(patch.uvs[v]);
+    centre_target = map(Vec2::Zero());
+  } else {
+    centre_target = advect_target(patch.center.point, previous, next, dt, scheme);
+  }
+  auto project = [&](const Vec3& target) {
+    SurfacePoint to = next.closest_point(target);
+    to.distance = (to.position - target).norm();
+    return to;
+  };
+  const SurfacePoint centre = project(centre_target);
+  if (!centre.valid() || centre.distance > max_projection) return AdvectResult::CentreLost;
+  patch.motion = (centre.position - patch.center.point.position).norm() / radius;
+  patch.center.point = centre;
+  patch.center.normal = next.normal_at(centre);
+
+  std::vector<std::uint8_t> keep(nv, 1);
+  bool removed = false, damaged = false;
+  for (std::size_t v = 0; v < nv; ++v) {
+    SurfacePoint p = project(targets[v]);
+    // Along an open rim (the 2D scenes' outflow boundaries) a vertex follows
+    // its own motion: the map, fitted to a flow along a rim drawn with
+    // chords, lands a hair inside or outside it, which would turn rim edges
+    // into patch borders or remove their vertices.
+    if (!raw.empty() && p.valid() && next.on_boundary(p, max_projection)) p = project(raw[v]);
+    if (!p.valid() || p.distance > max_projection || left_through_rim(p, next, max_projection)) {
+      keep[v] = 0;
+      removed = true;
+      damaged = damaged || patch.uvs[v].norm() < radius;
+      continue;
+    }
+    patch.projections[v] = p;
+    patch.positions[v] = p.position;
+  }
+  if (removed) remove_vertices(patch, keep, next);
+  else update_border(patch, next);
+  if (patch.triangles.empty()) return AdvectResult::Emptied;
+  return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
+}
+
+RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options) {
+  // Only where the patch contributes (|uv| < d, K_S > 0) can its distortion
+  // show; the margin out to (1 + β)d only keeps the border away from it.
+  auto inside = [&](int v) { return patch.uvs[v].norm() < options.radius; };
+  // Margin triangles (no corner inside the disk) stretched beyond δmax are
+  // cut off: they carry almost no weight, and unbounded they would grow
+  // without limit in diverging flows.
+  std::vector<std::uint8_t> keep(patch.triangles.size(), 1);
+  bool cut = false;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Tri& tri = patch.triangles[t];
+    if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) continue;
+    const double d = triangle_distortion(patch.rest[t], patch.positions[tri[0]], patch.positions[tri[1]],
+                                         patch.positions[tri[2]]);
+    if (d > options.max_distortion) keep[t] = 0, cut = true;
+  }
+  if (cut) remove_triangles(patch, keep, surface);
+  const std::size_t nv = patch.positions.size();
+  std::vector<double> sum(nv, 0.0);
+  std::vector<int> count(nv, 0);
+  std::vector<double> weight(nv, 0.0);
+  bool flipped = false, split = false, poor = false;
+  // Patch scale: what the disk still shows, Q_T weighted by seen_weight(),
+  // flipped and split triangles counting 0, and what each rule takes away.
+  double shown = 0.0, present = 0.0, loss_flipped = 0.0, loss_split = 0.0, loss_stretch = 0.0;
+  patch.max_distortion = 1.0;
+  const auto& component = surface.face_component();
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Tri& tri = patch.triangles[t];
+    const bool visible = inside(tri[0]) || inside(tri[1]) || inside(tri[2]);
+    const Vec3& q0 = patch.positions[tri[0]];
+    const Vec3& q1 = patch.positions[tri[1]];
+    const Vec3& q2 = patch.positions[tri[2]];
+    const double d = triangle_distortion(patch.rest[t], q0, q1, q2);
+    if (visible) patch.max_distortion = std::max(patch.max_distortion, d);
+    const double q = triangle_quality(d, options.max_distortion);
+    // Area-weighted mean (rest area): reconstructed surfaces are full of
+    // slivers whose shape is noise, and a plain mean lets one of them decide.
+    const RestTriangle& r = patch.rest[t];
+    const double area = 0.5 * std::abs((r[1] - r[0]).x() * (r[2] - r[0]).y() - (r[1] - r[0]).y() * (r[2] - r[0]).x());
+    for (int v : tri) {
+      sum[v] += q * area;
+      weight[v] += area;
+      ++count[v];
+    }
+    // Flipped: the triangle's normal turned against the surface under it.
+    const Vec3 n = (q1 - q0).cross(q2 - q0);
+    Vec3 surface_n = Vec3::Zero();
+    for (int v : tri) surface_n += surface.normal_at(patch.projections[v]);
+    const bool tri_flipped = n.dot(surface_n) < 0.0;
+    // Stretched across two disconnected pieces of the surface.
+    const int c0 = component[patch.projections[tri[0]].face];
+    const bool tri_split = component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0;
+    if (visible) flipped = flipped || tri_flipped, split = split || tri_split;
+    const double w = seen_weight(patch, t, options.radius);
+    present += w;
+    if (tri_split) loss_split += w;
+    else if (tri_flipped) loss_flipped += w;
+    else shown += w * q, loss_stretch += w * (1.0 - q);
+  }
+  patch.quality.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    patch.quality[v] = weight[v] > 0.0 ? static_cast<float>(sum[v] / weight[v]) : 0.0f;
+    if (options.distortion_test == DistortionTest::Vertex && count[v] && inside(static_cast<int>(v)) &&
+        patch.quality[v] < options.min_vertex_quality) {
+      poor = true;
+    }
+  }
+  if (options.distortion_test == DistortionTest::Patch) {
+    // Lost triangles (vertices removed past mpt) show nothing either.
+    const double whole = std::max(patch.disk_weight, present);
+    if (!(whole > 0.0) || shown >= options.min_vertex_quality * whole) return RetireCause::None;
+    const double loss_lost = whole - present;
+    const double worst = std::max({loss_lost, loss_split, loss_flipped, loss_stretch});
+    if (worst == loss_split) return RetireCause::Split;
+    if (worst == loss_flipped) return RetireCause::Flipped;
+    return worst == loss_lost ? RetireCause::VerticesLost : RetireCause::Quality;
+  }
+  if (split) return RetireCause::Split;
+  if (flipped) return RetireCause::Flipped;
+  return poor ? RetireCause::Quality : RetireCause::None;
+}
+
+double radial_weight(double r, const TrackingOptions& options) {
+  const double reach = (1.0 + options.selection_margin) * options.radius;
+  return std::max(0.0, 1.0 - r / options.radius) + kCoverageTail * std::max(0.0, 1.0 - r / reach);  // d_uv = d
+}
+
+float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale) {
+  const double radial = std::max(0.0, 1.0 - patch.uvs[v].norm() / radius);  // d_uv = d, p_uv is the origin
+  const double ks = radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, double(patch.quality[v]));  // Eq. 4
+  return static_cast<float>(ks * patch.kt);                                                                           // Eq. 2
+}
+
+void update_weights(Patch& patch, const TrackingOptions& options) {
+  const std::size_t nv = patch.positions.size();
+  patch.weight.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double radial = radial_weight(patch.uvs[v].norm(), options);  // p_uv is the origin
+    const double quality = std::max<double>(patch.quality[v], kCoverageTail);
+    const double ks = radial * options.uv_scale * (patch.border[v] ? 0.0 : 1.0) * quality;  // Eq. 4
+    patch.weight[v] = static_cast<float>(ks * patch.kt);                                              // Eq. 2
+  }
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,60 @@
+#include "fluidtex/tracking/fading.h"
+
+namespace fluidtex {
+
+const char* to_string(DiskState s) {
+  switch (s) {
+    case DiskState::FadingIn: return "fading_in";
+    case DiskState::Active: return "active";
+    case DiskState::FadingOutDistorted: return "fading_out_distorted";
+    case DiskState::FadingOutClose: return "fading_out_close";
+  }
+  return "?";
+}
+
+const char* to_string(RetireCause c) {
+  switch (c) {
+    case RetireCause::None: return "none";
+    case RetireCause::CentreLost: return "centre_lost";
+    case RetireCause::Emptied: return "emptied";
+    case RetireCause::VerticesLost: return "vertices_lost";
+    case RetireCause::Split: return "split";
+    case RetireCause::Flipped: return "flipped";
+    case RetireCause::Quality: return "quality";
+    case RetireCause::TooClose: return "too_close";
+  }
+  return "?";
+}
+
+int age_bucket(int age) {
+  int b = 0;
+  for (int limit = 2; b < kAgeBuckets - 1 && age >= limit; limit *= 2) ++b;
+  return b;
+}
+
+const char* age_bucket_name(int bucket) {
+  static const char* names[kAgeBuckets] = {"0_1", "2_3", "4_7", "8_15", "16_31", "32_up"};
+  return names[bucket];
+}
+
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion) {
+  double rate = (fading == Fading::Linear ? 1.0 : static_cast<double>(rho) + 1.0) / static_cast<double>(fade_frames);
+  if (fading == Fading::Flow && motion > rate) rate = motion;
+  switch (state) {
+    case DiskState::FadingIn:
+      kt += rate;  // Eq. 6, first line
+      // Within rounding of 1 counts as 1: τ steps of 1/τ must reach it.
+      if (kt >= 1.0 - 1e-9) return {DiskState::Active, 1.0, false};
+      return {DiskState::FadingIn, kt, false};
+    case DiskState::Active:
+      return {DiskState::Active, 1.0, false};
+    case DiskState::FadingOutDistorted:
+    case DiskState::FadingOutClose:
+      kt -= rate;  // Eq. 6, last line; K_t <= 0 removes the patch at once
+      if (kt <= 1e-9) return {state, 0.0, true};
+      return {state, kt, false};
+  }
+  return {state, kt, false};
+}
+
+}  // namespace fluidtex

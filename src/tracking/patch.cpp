@@ -1,0 +1,100 @@
+#include "fluidtex/tracking/patch.h"
+
+#include <algorithm>
+
+namespace fluidtex {
+
+double seen_weight(const Patch& patch, std::size_t t, double radius) {
+  const Tri& tri = patch.triangles[t];
+  const double radial = 1.0 - ((patch.uvs[tri[0]] + patch.uvs[tri[1]] + patch.uvs[tri[2]]) / 3.0).norm() / radius;
+  if (!(radial > 0.0)) return 0.0;
+  const RestTriangle& r = patch.rest[t];
+  return radial * 0.5 * std::abs((r[1] - r[0]).x() * (r[2] - r[0]).y() - (r[1] - r[0]).y() * (r[2] - r[0]).x());
+}
+
+std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles) {
+  std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·triangle + corner)
+  edges.reserve(3 * triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::uint32_t>(triangles[t][k]), b = static_cast<std::uint32_t>(triangles[t][(k + 1) % 3]);
+      edges.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint8_t> bits(triangles.size(), 0);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const bool alone = (e == 0 || edges[e - 1].first != edges[e].first) &&
+                       (e + 1 == edges.size() || edges[e + 1].first != edges[e].first);
+    if (alone) bits[edges[e].second / 3] |= static_cast<std::uint8_t>(1u << (edges[e].second % 3));
+  }
+  return bits;
+}
+
+void update_border(Patch& patch, const SurfaceIndex& surface) {
+  patch.border.assign(patch.positions.size(), 0);
+  // Rim points that moved a hair inside (along a curved rim drawn with
+  // chords) still count as on the rim.
+  double rest_edges = 0.0;
+  for (const RestTriangle& r : patch.rest) rest_edges += (r[1] - r[0]).norm();
+  const double rim_tolerance = patch.rest.empty() ? 0.0 : 0.05 * rest_edges / static_cast<double>(patch.rest.size());
+  const std::vector<std::uint8_t> bits = boundary_edge_bits(patch.triangles);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(bits[t] & (1u << k))) continue;
+      const int a = patch.triangles[t][k], b = patch.triangles[t][(k + 1) % 3];
+      const bool rim = surface.on_boundary(patch.projections[a], rim_tolerance) &&
+                       surface.on_boundary(patch.projections[b], rim_tolerance);
+      if (!rim) patch.border[a] = patch.border[b] = 1;
+    }
+  }
+}
+
+void remove_vertices(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface) {
+  std::vector<std::uint8_t> keep_triangle(patch.triangles.size());
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Tri& tri = patch.triangles[t];
+    keep_triangle[t] = keep[tri[0]] && keep[tri[1]] && keep[tri[2]];
+  }
+  remove_triangles(patch, keep_triangle, surface);
+}
+
+void remove_triangles(Patch& patch, const std::vector<std::uint8_t>& keep, const SurfaceIndex& surface) {
+  const std::size_t nv = patch.positions.size();
+  std::vector<std::uint8_t> used(nv, 0);
+  std::vector<Tri> triangles;
+  std::vector<RestTriangle> rest;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    const Tri& tri = patch.triangles[t];
+    if (keep[t]) {
+      triangles.push_back(tri);
+      rest.push_back(patch.rest[t]);
+      used[tri[0]] = used[tri[1]] = used[tri[2]] = 1;
+    }
+  }
+  std::vector<int> remap(nv, -1);
+  int next = 0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!used[v]) continue;
+    remap[v] = next;
+    patch.positions[next] = patch.positions[v];
+    patch.projections[next] = patch.projections[v];
+    patch.uvs[next] = patch.uvs[v];
+    if (!patch.quality.empty()) patch.quality[next] = patch.quality[v];
+    if (!patch.weight.empty()) patch.weight[next] = patch.weight[v];
+    ++next;
+  }
+  patch.positions.resize(next);
+  patch.projections.resize(next);
+  patch.uvs.resize(next);
+  if (!patch.quality.empty()) patch.quality.resize(next);
+  if (!patch.weight.empty()) patch.weight.resize(next);
+  for (Tri& t : triangles) {
+    for (int& v : t) v = remap[v];
+  }
+  patch.triangles = std::move(triangles);
+  patch.rest = std::move(rest);
+  update_border(patch, surface);
+}
+
+}  // namespace fluidtex

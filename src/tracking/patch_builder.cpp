@@ -1,0 +1,132 @@
+#include "fluidtex/tracking/patch_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "fluidtex/geometry/disk_region.h"
+#include "fluidtex/geometry/parameterization.h"
+#include "fluidtex/util/random.h"
+
+namespace fluidtex {
+
+std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center,
+                                    double select_radius, double patch_vertex_angle) {
+  const FrameMesh& mesh = surface.mesh();
+  const Vec3 c = center.point.position;
+  const Vec3 n = center.normal;
+  const double r2 = select_radius * select_radius;
+  DiskRegionOptions region;
+  region.accept = [&](int f) {
+    // A triangle reaching into the selection ball counts (any corner or its
+    // centroid inside): on meshes whose edges are a sizeable fraction of d, a
+    // test on all corners would leave ragged, shrunken patches and gaps
+    // between them.
+    const Tri& t = mesh.triangles[f];
+    const Vec3 centroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+    bool reaches = (centroid - c).squaredNorm() <= r2;
+    for (int v : t) reaches = reaches || (mesh.positions[v] - c).squaredNorm() <= r2;
+    return reaches && surface.face_normals()[f].dot(n) > patch_vertex_angle;  // the plane test with pva
+  };
+  region.priority = [&](int f) {
+    const Tri& t = mesh.triangles[f];
+    return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c).squaredNorm();
+  };
+  // The disk's own triangle always belongs to its patch.
+  return grow_disk_region(surface, center.point.face, region);
+}
+
+namespace {
+
+/// uv of the point of the patch nearest to `p` (through the nearest triangle).
+Vec2 uv_at(const Patch& patch, const Vec3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  Vec2 uv = Vec2::Zero();
+  for (const Tri& t : patch.triangles) {
+    const Vec3& a = patch.positions[t[0]];
+    const Vec3& b = patch.positions[t[1]];
+    const Vec3& c = patch.positions[t[2]];
+    const Vec3 n = (b - a).cross(c - a);
+    const double n2 = n.squaredNorm();
+    if (!(n2 > 0.0)) continue;
+    const Vec3 q = p - n * (n.dot(p - a) / n2);  // onto the triangle's plane
+    const Vec3 w = barycentric(q, a, b, c);     // clamped into the triangle
+    const Vec3 on = w[0] * a + w[1] * b + w[2] * c;
+    const double d2 = (on - p).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      uv = w[0] * patch.uvs[t[0]] + w[1] * patch.uvs[t[1]] + w[2] * patch.uvs[t[2]];
+    }
+  }
+  return uv;
+}
+
+}  // namespace
+
+std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
+                                 const TrackingOptions& options, std::uint32_t id, std::uint64_t seed,
+                                 int frame, double edge_length, std::string* failure) {
+  auto fail = [&](const char* why) -> std::optional<Patch> {
+    if (failure) *failure = why;
+    return std::nullopt;
+  };
+  const std::vector<int> faces = select_patch_faces(
+      surface, center, (1.0 + options.selection_margin) * options.radius, options.patch_vertex_angle);
+  if (faces.empty()) return fail("empty selection");
+
+  DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk
+  // Departure from the paper, which keeps the simulation's own triangles:
+  // the copy is remeshed to well-shaped triangles of a set size (vertices
+  // stay on the surface). Reconstructed surfaces are full of slivers whose
+  // shape is noise, which the distortion metric reads as large distortion,
+  // and their resolution varies; a remeshed patch follows the flow with a
+  // fixed, sufficient number of vertices.
+  if (edge_length > 0.0 && !remesh_disk(copy, edge_length)) return fail("selection is not manifold");
+
+  Patch patch;
+  patch.id = id;
+  patch.created_frame = frame;
+  patch.center = center;
+  patch.triangles = copy.triangles;
+  for (const Vec3& p : copy.positions) {
+    const SurfacePoint s = surface.closest_point(p);
+    patch.positions.push_back(s.position);
+    patch.projections.push_back(s);
+  }
+  if (patch.triangles.empty()) return fail("empty selection");
+  std::string why;
+  if (!flatten_lscm(copy, patch.uvs, &why)) {
+    if (failure) *failure = why;
+    return std::nullopt;
+  }
+  const Vec2 uv_center = uv_at(patch, center.point.position);
+  for (Vec2& uv : patch.uvs) uv -= uv_center;
+
+  // Drop triangles LSCM folded over (rare, on very curved selections).
+  std::vector<Tri> kept;
+  for (const Tri& t : patch.triangles) {
+    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
+    if (e1.x() * e2.y() - e1.y() * e2.x() > 0.0) kept.push_back(t);
+  }
+  if (kept.empty()) return fail("parameterisation folded over");
+  const bool folded = kept.size() != patch.triangles.size();
+  patch.triangles = std::move(kept);
+
+  patch.rest.reserve(patch.triangles.size());
+  for (const Tri& t : patch.triangles) {
+    patch.rest.push_back(rest_shape(patch.positions[t[0]], patch.positions[t[1]], patch.positions[t[2]]));
+  }
+  patch.quality.assign(patch.positions.size(), 1.0f);
+  patch.weight.assign(patch.positions.size(), 0.0f);
+  if (folded) {
+    remove_vertices(patch, std::vector<std::uint8_t>(patch.positions.size(), 1), surface);  // drops unused vertices
+  } else {
+    update_border(patch, surface);
+  }
+  patch.anchor = Vec2(uniform(seed, Stream::PatchAnchor, id, 0), uniform(seed, Stream::PatchAnchor, id, 1));
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) patch.disk_weight += seen_weight(patch, t, options.radius);
+  return patch;
+}
+
+}  // namespace fluidtex

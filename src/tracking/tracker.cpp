@@ -1,0 +1,245 @@
+#include "fluidtex/tracking/tracker.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <functional>
+#include <cmath>
+#include <optional>
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fluidtex/tracking/patch_builder.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/poisson.h"
+
+namespace fluidtex {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+template <class F>
+void parallel_each(std::size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
+
+PoissonParams poisson_params(const TrackingOptions& o) {
+  return {o.radius, o.thickness, o.plane_angle, o.criterion};
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, double>> retired_counts(const std::vector<RetiredPatch>& retired) {
+  std::array<int, kRetireCauses> causes{};
+  std::array<int, kAgeBuckets> ages{};
+  for (const RetiredPatch& r : retired) ++causes[static_cast<int>(r.cause)], ++ages[age_bucket(r.age)];
+  std::vector<std::pair<std::string, double>> out;
+  for (int c = 1; c < kRetireCauses; ++c) out.emplace_back(std::string("retired_") + to_string(static_cast<RetireCause>(c)), causes[c]);
+  for (int b = 0; b < kAgeBuckets; ++b) out.emplace_back(std::string("retired_age_") + age_bucket_name(b), ages[b]);
+  return out;
+}
+
+PatchCounts count_states(const std::vector<Patch>& patches) {
+  PatchCounts c;
+  for (const Patch& p : patches) {
+    switch (p.state) {
+      case DiskState::FadingIn: ++c.fading_in; break;
+      case DiskState::Active: ++c.active; break;
+      case DiskState::FadingOutDistorted: ++c.fading_out_distorted; break;
+      case DiskState::FadingOutClose: ++c.fading_out_close; break;
+    }
+  }
+  return c;
+}
+
+Tracker::Tracker(TrackerSettings settings) : settings_(std::move(settings)) { settings_.method.validate(); }
+Tracker::~Tracker() = default;
+Tracker::Tracker(Tracker&&) noexcept = default;
+Tracker& Tracker::operator=(Tracker&&) noexcept = default;
+
+StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt) {
+  StepReport report;
+  report.frame = frame;
+  auto t0 = Clock::now();
+  // The index refers to *mesh; holding the mesh in the deleter keeps it alive
+  // as long as anyone holds the surface.
+  std::shared_ptr<const SurfaceIndex> surface(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
+  if (!started_) settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
+  const TrackingOptions& o = settings_.method;
+  const PoissonParams params = poisson_params(o);
+  report.seconds.emplace_back("surface", seconds_since(t0));
+
+  if (started_) {
+    // 1. Advection and projection.
+    t0 = Clock::now();
+    std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
+    parallel_each(patches_.size(), [&](std::size_t i) {
+      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o, settings_.advection,
+                                 settings_.motion);
+    });
+    report.seconds.emplace_back("advect", seconds_since(t0));
+
+    // 2. Distortion.
+    t0 = Clock::now();
+    std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
+    parallel_each(patches_.size(), [&](std::size_t i) {
+      if (is_lost(advected[i])) return;
+      distorted[i] = update_distortion(patches_[i], *surface, o);
+      // The per-vertex rules retire a patch for any vertex lost inside the
+      // disk; the patch-scale test weighs the lost part in update_distortion.
+      if (distorted[i] == RetireCause::None && advected[i] == AdvectResult::Damaged &&
+          o.distortion_test == DistortionTest::Vertex) {
+        distorted[i] = RetireCause::VerticesLost;
+      }
+    });
+    std::vector<Patch> kept;
+    kept.reserve(patches_.size());
+    for (std::size_t i = 0; i < patches_.size(); ++i) {
+      Patch& p = patches_[i];
+      if (is_lost(advected[i])) {
+        ++report.lost;
+        if (!is_fading_out(p.state)) {
+          const RetireCause cause = advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
+          report.retired.push_back({p.id, cause, frame - p.created_frame});
+        }
+        continue;
+      }
+      if (distorted[i] != RetireCause::None && !is_fading_out(p.state)) {
+        p.state = DiskState::FadingOutDistorted;
+        p.flagged_frame = frame;
+        p.cause = distorted[i];
+        report.retired.push_back({p.id, p.cause, frame - p.created_frame});
+      }
+      kept.push_back(std::move(p));
+    }
+    patches_ = std::move(kept);
+    report.seconds.emplace_back("distortion", seconds_since(t0));
+  }
+
+  // 3. Poisson update, ignoring fading-out disks; patches are in id order, so
+  // of two disks too close the younger one fades out.
+  t0 = Clock::now();
+  std::vector<std::size_t> live;
+  std::vector<SurfaceSample> disks;
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    if (is_fading_out(patches_[i].state)) continue;
+    live.push_back(i);
+    disks.push_back(patches_[i].center);
+  }
+  auto covers_centre = [&](std::size_t older, std::size_t younger) {
+    return patch_covers(patches_[live[older]], disks[younger].point.position, disks[younger].normal, o.max_projection);
+  };
+  const std::vector<bool> close =
+      flag_too_close(disks, params, o.kill_alpha,
+                     settings_.coverage_aware ? std::function<bool(std::size_t, std::size_t)>(covers_centre) : nullptr);
+  std::vector<SurfaceSample> remaining;
+  for (std::size_t k = 0; k < live.size(); ++k) {
+    if (close[k]) {
+      Patch& p = patches_[live[k]];
+      p.state = DiskState::FadingOutClose;
+      p.flagged_frame = frame;
+      p.cause = RetireCause::TooClose;
+      report.retired.push_back({p.id, p.cause, frame - p.created_frame});
+    } else {
+      remaining.push_back(disks[k]);
+    }
+  }
+  std::vector<SurfaceSample> candidates =
+      surface_candidates(*surface, o.radius, settings_.seed, settings_.candidates_per_disk);
+  // Which candidates the live patches really cover (K_S > 0): their
+  // weights are refreshed for the advected shape first.
+  std::vector<char> uncovered;
+  if (started_ && settings_.coverage_aware) {
+    std::vector<char> live_mask(patches_.size(), 0);
+    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !close[k];
+    parallel_each(patches_.size(), [&](std::size_t i) {
+      if (live_mask[i]) update_weights(patches_[i], o);
+    });
+    const PatchCoverage coverage(patches_, o.max_projection, &live_mask);
+    uncovered = uncovered_samples(candidates, coverage);
+    // Random candidates miss thin strips (the fillet where a liquid surface
+    // meets a wall, narrower than their spacing): the centroid of every face
+    // left bare is a candidate too, after the others, in face order.
+    const std::vector<char> bare = uncovered_faces(*surface, coverage);
+    for (std::size_t f = 0; f < bare.size(); ++f) {
+      if (!bare[f]) continue;
+      SurfaceSample centroid;
+      centroid.point = surface->at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
+      centroid.normal = surface->normal_at(centroid.point);
+      candidates.push_back(centroid);
+      uncovered.push_back(1);
+    }
+  }
+  const std::vector<SurfaceSample> fresh =
+      fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,
+                uncovered.empty() ? nullptr : &uncovered);
+  report.seconds.emplace_back("poisson", seconds_since(t0));
+
+  // Patches for the new disks, in parallel; ids are fixed before the loop.
+  t0 = Clock::now();
+  std::vector<std::optional<Patch>> built(fresh.size());
+  parallel_each(fresh.size(), [&](std::size_t i) {
+    built[i] = build_patch(*surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame,
+                           settings_.patch_edge * o.radius);
+    if (built[i]) update_distortion(*built[i], *surface, o);
+  });
+  next_id_ += static_cast<std::uint32_t>(fresh.size());
+  for (std::optional<Patch>& p : built) {
+    if (!p) {
+      ++report.failed;
+      continue;
+    }
+    p->state = started_ ? DiskState::FadingIn : DiskState::Active;
+    p->kt = started_ ? 0.0 : 1.0;
+    patches_.push_back(std::move(*p));
+    ++report.created;
+  }
+  report.seconds.emplace_back("patches", seconds_since(t0));
+
+  // 4. Density and temporal weights.
+  t0 = Clock::now();
+  std::vector<SurfaceSample> all;
+  all.reserve(patches_.size());
+  for (const Patch& p : patches_) all.push_back(p.center);
+  const std::vector<int> rho = disk_density(all, params);
+  std::vector<Patch> survivors;
+  survivors.reserve(patches_.size());
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    Patch& p = patches_[i];
+    p.density = rho[i];
+    const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion);
+    if (r.remove) {
+      ++report.removed;
+      continue;
+    }
+    p.state = r.state;
+    p.kt = r.kt;
+    survivors.push_back(std::move(p));
+  }
+  patches_ = std::move(survivors);
+  report.removed += report.lost;
+  report.seconds.emplace_back("fading", seconds_since(t0));
+
+  // 5. Vertex weights.
+  t0 = Clock::now();
+  parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], o); });
+  report.seconds.emplace_back("weights", seconds_since(t0));
+
+  std::sort(report.retired.begin(), report.retired.end(),
+            [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
+  retired_ = report.retired;
+  mesh_ = std::move(mesh);
+  surface_ = std::move(surface);
+  frame_ = frame;
+  started_ = true;
+  report.counts = count_states(patches_);
+  for (const Patch& p : patches_) report.patch_vertices += p.num_vertices();
+  return report;
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,232 @@
+// End-to-end tests of the fluidtex executable: subcommands, exit codes,
+// error messages and the promise that bad input leaves no output behind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "fluidtex/io/image_io.h"
+#include "fluidtex/scenes/scenes.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_fluidtex;
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+/// Generates the rotation scene with a gravel exemplar in `dir` and returns
+/// the start of a `run` command line over it (without -o).
+std::string rotation_run(const test::TempDir& dir, int frames, int resolution, int exemplar_size, int atlas_size) {
+  std::string out;
+  EXPECT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames " + std::to_string(frames) +
+                             " --resolution " + std::to_string(resolution) + " --exemplar gravel --exemplar-size " +
+                             std::to_string(exemplar_size),
+                         &out),
+            0)
+      << out;
+  return "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) + " --atlas-size " +
+         std::to_string(atlas_size) + " ";
+}
+
+TEST(Cli, HelpAndVersion) {
+  std::string out;
+  EXPECT_EQ(run_fluidtex("--help", &out), 0);
+  EXPECT_NE(out.find("run"), std::string::npos);
+  EXPECT_NE(out.find("info"), std::string::npos);
+  EXPECT_NE(out.find("gen"), std::string::npos);
+  EXPECT_EQ(run_fluidtex("run --help", &out), 0);
+  EXPECT_NE(out.find("--plane-angle"), std::string::npos);
+  EXPECT_NE(out.find("--fade-frames"), std::string::npos);
+  EXPECT_NE(out.find("48"), std::string::npos);  // defaults are shown
+  EXPECT_EQ(run_fluidtex("--version", &out), 0);
+}
+
+TEST(Cli, UnknownOptionIsBadInput) {
+  std::string out;
+  EXPECT_EQ(run_fluidtex("run --no-such-option", &out), 2);
+  EXPECT_EQ(run_fluidtex("", &out), 2);
+}
+
+TEST(Cli, GenThenInfo) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.file("rot")) + " --frames 3 --resolution 12", &out), 0) << out;
+  EXPECT_EQ(test::list_dir(dir.path() / "rot"),
+            (std::vector<std::string>{"rotation.0001.ply", "rotation.0002.ply", "rotation.0003.ply"}));
+  ASSERT_EQ(run_fluidtex("info -i " + q(dir.file("rot/rotation.####.ply")), &out), 0) << out;
+  EXPECT_NE(out.find("3 frames (1..3)"), std::string::npos) << out;
+  EXPECT_NE(out.find("|velocity|"), std::string::npos) << out;
+  EXPECT_NE(out.find("bounding box"), std::string::npos) << out;
+}
+
+TEST(Cli, GenUnknownSceneIsBadInput) {
+  test::TempDir dir;
+  std::string out;
+  EXPECT_EQ(run_fluidtex("gen volcano -o " + q(dir.file("x")), &out), 2);
+  EXPECT_NE(out.find("volcano"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.file("x")) && !fs::is_empty(dir.file("x")));
+}
+
+TEST(Cli, InfoReportsABadFrameAndExits2) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0) << out;
+  test::write_file(dir.path() / "rotation.0003.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
+  EXPECT_EQ(run_fluidtex("info -i " + q(dir.file("rotation.####.ply")), &out), 2);
+  EXPECT_NE(out.find("rotation.0003.ply"), std::string::npos) << out;
+  EXPECT_NE(out.find("ERROR"), std::string::npos) << out;
+}
+
+TEST(Cli, RunMissingInputIsOneLineErrorAndNoOutput) {
+  test::TempDir dir;
+  std::string out;
+  EXPECT_EQ(run_fluidtex("run --track-only -i " + q(dir.file("none.####.ply")) + " -o " + q(dir.file("out")), &out), 2);
+  EXPECT_NE(out.find("none.####.ply"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST(Cli, RunUnreadableExemplarIsBadInputAndNoOutput) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0);
+  test::write_file(dir.path() / "tex.png", "not an image");
+  EXPECT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("tex.png")) +
+                             " -o " + q(dir.file("out")),
+                         &out),
+            2);
+  EXPECT_NE(out.find("tex.png"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST(Cli, RunRejectsBadOptionValues) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0);
+  const std::string base = "run -i " + q(dir.file("rotation.####.ply")) + " -o " + q(dir.file("out"));
+  EXPECT_EQ(run_fluidtex(base + " --max-distortion 0.5", &out), 2);
+  EXPECT_NE(out.find("--max-distortion"), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex(base + " --criterion cube", &out), 2);
+  EXPECT_EQ(run_fluidtex(base + " --atlas " + q(dir.file("a.exr")), &out), 2);  // no frame token
+  EXPECT_EQ(run_fluidtex(base + " --mesh " + q(dir.file("m.####.fbx")), &out), 2);
+  EXPECT_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("run -i x.####.ply -o o --radius 0.125 --fade-frames 30 --print-config", &out), 0);
+  EXPECT_NE(out.find("radius=0.125"), std::string::npos) << out;
+  EXPECT_NE(out.find("fade-frames=30"), std::string::npos) << out;
+  test::write_file(dir.path() / "params.toml", "radius = 0.25\nfade-frames = 12\ncriterion = \"sphere\"\n");
+  ASSERT_EQ(run_fluidtex("run -i x.####.ply -o o --config " + q(dir.file("params.toml")) + " --print-config", &out), 0)
+      << out;
+  EXPECT_NE(out.find("radius=0.25"), std::string::npos) << out;
+  EXPECT_NE(out.find("fade-frames=12"), std::string::npos) << out;
+  EXPECT_NE(out.find("criterion=\"sphere\""), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex("run -i x.####.ply -o o --config " + q(dir.file("missing.toml")), &out), 2);
+}
+
+TEST(Cli, RunWritesEveryOutputPerFrame) {
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 16 --exemplar gravel "
+                         "--exemplar-size 64", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
+                             " -o " + q(dir.file("out")) + " --atlas-size 128 --aov weight,count --debug-views",
+                         &out),
+            0)
+      << out;
+  const fs::path o = dir.path() / "out";
+  for (int f = 1; f <= 3; ++f) {
+    const std::string n = "000" + std::to_string(f);
+    EXPECT_TRUE(fs::exists(o / ("atlas." + n + ".exr"))) << n;
+    EXPECT_TRUE(fs::exists(o / ("mesh." + n + ".obj"))) << n;
+    EXPECT_TRUE(fs::exists(o / "state" / ("patches." + n + ".bin"))) << n;
+    EXPECT_TRUE(fs::exists(o / "aov" / ("weight." + n + ".exr"))) << n;
+    EXPECT_TRUE(fs::exists(o / "aov" / ("count." + n + ".exr"))) << n;
+    EXPECT_TRUE(fs::exists(o / "debug" / ("disks." + n + ".ply"))) << n;
+  }
+  const std::string stats = test::read_file(o / "stats.jsonl");
+  EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 3) << stats;
+  EXPECT_NE(stats.find("\"frame\":1,"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"patches\":{\"fading_in\":"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"uncovered_fraction\":0,"), std::string::npos) << stats;
+  // The preview renders the finished frames.
+  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --frames 2-3 --width 64", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(o / "preview" / "frame.0002.png"));
+  EXPECT_TRUE(fs::exists(o / "preview" / "frame.0003.png"));
+  // Overlays need the input; with it, a perspective contact sheet of frames 1 and 3.
+  EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --overlay borders", &out), 2);
+  EXPECT_NE(out.find("-i/--input"), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --camera 1,2,3", &out), 2);
+  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --width 40 --height 30 --camera 0,-3,2,0,0,0,35 "
+                             "--overlay borders,states,velocity -i " + q(dir.file("rotation.####.ply")) +
+                             " --sheet 2 --sheet-only",
+                         &out),
+            0)
+      << out;
+  const Image sheet = read_image((o / "preview" / "sheet.png").string());
+  EXPECT_EQ(sheet.width, 2 * 40 + 3 * 4);  // frames 1 and 3 side by side
+  EXPECT_EQ(sheet.height, 30 + 2 * 4);
+  // No temporary file is left anywhere.
+  for (const auto& e : fs::recursive_directory_iterator(o)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  }
+}
+
+TEST(Cli, ResumeContinuesFromTheLastState) {
+  test::TempDir dir;
+  std::string out;
+  const std::string base = rotation_run(dir, 4, 12, 32, 64);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("full")), &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --frames 1-2", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --resume", &out), 0) << out;
+  for (const char* f : {"atlas.0003.exr", "atlas.0004.exr", "mesh.0004.obj", "state/patches.0004.bin"}) {
+    EXPECT_EQ(test::read_file(dir.path() / "full" / f), test::read_file(dir.path() / "part" / f)) << f;
+  }
+  const std::string stats = test::read_file(dir.path() / "part" / "stats.jsonl");
+  EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 4) << stats;
+}
+
+TEST(Cli, SameOutputForOneAndTwoThreads) {
+  test::TempDir dir;
+  std::string out;
+  const std::string base = rotation_run(dir, 3, 16, 64, 128);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t1")) + " --threads 1", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t2")) + " --threads 2", &out), 0) << out;
+  for (const char* f : {"atlas.0003.exr", "mesh.0003.obj", "state/patches.0003.bin"}) {
+    const std::string a = test::read_file(dir.path() / "t1" / f), b = test::read_file(dir.path() / "t2" / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_TRUE(a == b) << f;
+  }
+}
+
+TEST(Cli, CoverageCheckFillsTheHolesThePlainPoissonUpdateLeaves) {
+  // The merge outline grows faster than patches follow: the plain Poisson
+  // update (--no-coverage-check) leaves bare surface, the default fills it.
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen merge -o " + q(dir.str()) + " --frames 12 --resolution 32", &out), 0) << out;
+  auto worst_uncovered = [&](const std::string& name, const std::string& flags) {
+    EXPECT_EQ(run_fluidtex("run -q --track-only -i " + q(dir.file("merge.####.ply")) + " -o " + q(dir.file(name)) + flags,
+                           &out),
+              0)
+        << out;
+    const std::string stats = test::read_file(dir.path() / name / "stats.jsonl");
+    double worst = 0.0;
+    const std::string key = "\"uncovered_fraction\":";
+    for (std::size_t at = stats.find(key); at != std::string::npos; at = stats.find(key, at + 1)) {
+      worst = std::max(worst, std::stod(stats.substr(at + key.size())));
+    }
+    EXPECT_NE(stats.find("\"frame\":12"), std::string::npos);
+    return worst;
+  };
+  EXPECT_EQ(worst_uncovered("checked", ""), 0.0);
+  EXPECT_GT(worst_uncovered("plain", " --no-coverage-check"), 1e-3);
+}
+
+}  // namespace
+}  // namespace fluidtex

@@ -1,0 +1,183 @@
+// `fluidtex eval`: every metric on a case with a known answer, and the whole
+// command on a generated scene.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <optional>
+
+#include "fluidtex/util/error.h"
+#include "fluidtex/inspect/eval.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/geometry/surface.h"
+#include "mesh_fixtures.h"
+#include "synthesis_fixtures.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+/// A flat n×n grid over [x0, x0+1]×[0,1] whose uvs are fixed to its
+/// vertices (uv = vertex position at x0 = 0): moving x0 moves the texture
+/// with the surface.
+UVMesh moving_grid(int n, double x0) {
+  const FrameMesh grid = test::flat_grid(n, 1.0, 0.0, x0, 0.0);
+  UVMesh m;
+  m.positions = grid.positions;
+  m.normals.assign(grid.positions.size(), Vec3::UnitZ());
+  m.triangles = grid.triangles;
+  for (const Vec3& p : grid.positions) m.uvs.emplace_back(p.x() - x0, p.y());
+  m.uv_triangles = grid.triangles;
+  return m;
+}
+
+TEST(Eval, CoverageIsOneWithoutPatches) {
+  const FrameMesh grid = test::flat_grid(6);
+  const SurfaceIndex surface(grid);
+  const std::vector<Patch> none;
+  EXPECT_DOUBLE_EQ(uncovered_area_fraction(surface, PatchCoverage(none, 0.01)), 1.0);
+}
+
+TEST(Eval, WarpingErrorIsZeroForAnAdvectedTextureAndLargeForARandomOne) {
+  const Exemplar exemplar(make_exemplar("gravel", 128, 4));
+  const double dt = 1.0 / 24.0, speed = 0.12;  // the surface moves 5 mm per frame along x
+  FrameMesh mesh = test::flat_grid(10, 1.0, 0.0, 0.0, 0.0);
+  mesh.velocities.assign(mesh.positions.size(), Vec3(speed, 0.0, 0.0));
+  const TexturedFrame t0(moving_grid(10, 0.0), exemplar.image());
+  std::optional<TexturedFrame> moved;  // frames are moved around by eval: the index must follow
+  moved.emplace(TexturedFrame(moving_grid(10, speed * dt), exemplar.image()));
+  const TexturedFrame t1(std::move(*moved));
+  moved.reset();
+  const WarpingError w = warping_error(mesh, t0, t1, dt, exemplar, 4000, 7);
+  EXPECT_EQ(w.samples, 4000u);
+  EXPECT_LT(w.advected, 1e-3);   // exactly advected, no distortion
+  EXPECT_GT(w.fixed, 0.1);       // the texture moved under a fixed point
+  EXPECT_GT(w.random, 0.5);      // uncorrelated colours: about 2/sqrt(pi) σ for Gaussian noise
+  // A texture unrelated to the last frame's: as bad as random.
+  const TexturedFrame other(moving_grid(10, speed * dt), make_exemplar("gravel", 128, 99));
+  const WarpingError r = warping_error(mesh, t0, other, dt, exemplar, 4000, 7);
+  EXPECT_GT(r.advected, 0.5 * w.random);
+}
+
+TEST(Eval, OpticalFlowFindsATranslation) {
+  const Image texture = make_exemplar("gravel", 128, 5);
+  const int n = 96, dx = 2, dy = 1;
+  Image a, b, expected;
+  a.width = b.width = expected.width = a.height = b.height = expected.height = n;
+  a.channels = b.channels = 3;
+  expected.channels = 2;
+  a.pixels.resize(n * n * 3), b.pixels.resize(n * n * 3), expected.pixels.resize(n * n * 2);
+  std::vector<char> mask(n * n, 0);
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        a.pixels[(y * n + x) * 3 + c] = texture.at(x + 8, y + 8, c);
+        b.pixels[(y * n + x) * 3 + c] = texture.at(x + 8 - dx, y + 8 - dy, c);  // content moved by (dx, dy)
+      }
+      expected.pixels[(y * n + x) * 2] = dx, expected.pixels[(y * n + x) * 2 + 1] = dy;
+      mask[y * n + x] = x >= 16 && y >= 16 && x < n - 16 && y < n - 16;
+    }
+  }
+  const FlowError e = optical_flow_error(a, b, expected, mask);
+  EXPECT_GT(e.pixels, 3000u);
+  EXPECT_LT(e.endpoint, 0.3);
+  EXPECT_LT(e.angular, 5.0);
+  EXPECT_NEAR(e.speed, std::hypot(dx, dy), 1e-9);
+  // Against a wrong expectation the error is about the difference.
+  for (std::size_t i = 0; i < expected.pixels.size(); i += 2) expected.pixels[i] = -dx;
+  EXPECT_GT(optical_flow_error(a, b, expected, mask).endpoint, 3.0);
+}
+
+TEST(Eval, ContrastRatioIsOneForASinglePatch) {
+  // One patch of weight 1 over the unit square showing exactly 4×4 tiles.
+  // A smooth exemplar, so that bilinear lookups between its texels do not
+  // lower the contrast themselves.
+  Image smooth;
+  smooth.width = smooth.height = 64;
+  smooth.channels = 3;
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      smooth.pixels.push_back(static_cast<float>(0.5 + 0.3 * std::sin(2 * M_PI * x / 64.0)));
+      smooth.pixels.push_back(static_cast<float>(0.5 + 0.2 * std::cos(2 * M_PI * y / 32.0)));
+      smooth.pixels.push_back(static_cast<float>(0.5 + 0.25 * std::sin(2 * M_PI * (x + y) / 64.0)));
+    }
+  }
+  test::OnePatch scene(256);
+  scene.add(Vec2(0.1, 0.3), 1.0);
+  const Exemplar exemplar(smooth);
+  SynthesisOptions so;
+  so.tile_size = 0.25;
+  so.radius = 1e3;
+  const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+  std::vector<char> mask(scene.map.face.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = scene.map.face[i] >= 0;
+  for (double ratio : contrast_ratio(r.color, mask, exemplar)) EXPECT_NEAR(ratio, 1.0, 0.03);
+  // Linear blending of four uncorrelated patches loses contrast.
+  test::OnePatch four(256);
+  for (int k = 0; k < 4; ++k) four.add(Vec2(0.13 * k + 0.05, 0.29 * k + 0.1), 1.0, 0.9 * k);
+  so.blend = Blend::Linear;
+  const SynthesisResult lin = synthesize(four.surface, four.atlas, four.map, four.patches, exemplar, so);
+  for (double ratio : contrast_ratio(lin.color, mask, exemplar)) EXPECT_LT(ratio, 0.75);
+}
+
+TEST(Eval, SpectrumDistanceIsZeroForTheExemplarItself) {
+  const Exemplar exemplar(make_exemplar("gravel", 128, 8));
+  const std::vector<double> s = radial_log_spectrum(exemplar.image(), 0, 0, 64);
+  ASSERT_EQ(s.size(), 31u);
+  EXPECT_DOUBLE_EQ(spectrum_distance(s, s), 0.0);
+  // The same texture resampled at scale 1 is the same spectrum; a blurred
+  // one (half resolution) is not.
+  const Image same = exemplar_crop(exemplar, 0.0, 0.0, 1.0, 64);
+  EXPECT_LT(spectrum_distance(radial_log_spectrum(same, 0, 0, 64), s), 1e-6);
+  const Image zoomed = exemplar_crop(exemplar, 0.0, 0.0, 0.5, 64);
+  EXPECT_GT(spectrum_distance(radial_log_spectrum(zoomed, 0, 0, 64), s), 0.5);
+  EXPECT_THROW(radial_log_spectrum(exemplar.image(), 100, 0, 64), InternalError);
+}
+
+TEST(Eval, ChartMaskCoversTheUvTriangles) {
+  const UVMesh m = moving_grid(4, 0.0);  // the whole [0,1]² in uv
+  const std::vector<char> mask = chart_mask(m, 32);
+  EXPECT_EQ(std::count(mask.begin(), mask.end(), 1), 32 * 32);
+  UVMesh half = m;
+  for (Vec2& uv : half.uvs) uv *= 0.5;  // lower-left quarter in uv = bottom-left in the image (y down)
+  const std::vector<char> q = chart_mask(half, 32);
+  EXPECT_EQ(std::count(q.begin(), q.end(), 1), 16 * 16);
+  EXPECT_TRUE(q[31 * 32 + 0]);
+  EXPECT_FALSE(q[0]);
+}
+
+TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
+  test::TempDir dir;
+  const std::string scene = dir.file("scene");
+  ASSERT_EQ(test::run_fluidtex("gen rotation -o " + scene + " --frames 5 --resolution 24 --exemplar gravel --exemplar-size 64"),
+            0);
+  const std::string out = dir.file("out");
+  const std::string input = scene + "/rotation.####.ply";
+  ASSERT_EQ(test::run_fluidtex("run -i '" + input + "' -e " + scene + "/gravel.png -o " + out + " --atlas-size 256 -q"), 0);
+  ASSERT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + out + " --samples 2000 -q"), 0);
+  for (const char* f : {"metrics.jsonl", "summary.json", "report.html"}) {
+    EXPECT_TRUE(std::filesystem::exists(out + "/eval/" + f)) << f;
+  }
+  const std::string summary = test::read_file(out + "/eval/summary.json");
+  auto value = [&](const std::string& key) {
+    const std::size_t at = summary.find("\"" + key + "\":");
+    EXPECT_NE(at, std::string::npos) << key;
+    return at == std::string::npos ? std::nan("") : std::stod(summary.substr(at + key.size() + 3));
+  };
+  EXPECT_EQ(value("frames"), 5);
+  EXPECT_EQ(value("uncovered_area_mean"), 0.0);
+  EXPECT_LT(value("warp_advected"), 0.5 * value("warp_fixed"));
+  EXPECT_LT(value("warp_advected"), 0.5 * value("warp_random"));
+  EXPECT_GT(value("ghosting_mean"), 1.0);
+  EXPECT_LT(value("flow_endpoint_px"), 0.5 * value("flow_speed_px"));
+  EXPECT_NEAR(value("contrast_g"), 1.0, 0.2);
+  const std::string html = test::read_file(out + "/eval/report.html");
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+  // Not a run's folder: a clear error.
+  EXPECT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + scene + " -q"), 2);
+}
+
+}  // namespace
+}  // namespace fluidtex

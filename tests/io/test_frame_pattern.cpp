@@ -1,0 +1,140 @@
+#include <gtest/gtest.h>
+
+#include "fluidtex/util/error.h"
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/io/sequence.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+TEST(FramePattern, HashesPadToTheirCount) {
+  FramePattern p("out/mesh.####.ply");
+  EXPECT_EQ(p.width(), 4);
+  EXPECT_EQ(p.path(7), "out/mesh.0007.ply");
+  EXPECT_EQ(p.path(12345), "out/mesh.12345.ply");
+  EXPECT_EQ(FramePattern("a.#.ply").path(42), "a.42.ply");
+}
+
+TEST(FramePattern, PrintfStyle) {
+  EXPECT_EQ(FramePattern("f.%04d.ply").path(3), "f.0003.ply");
+  EXPECT_EQ(FramePattern("f.%d.ply").path(3), "f.3.ply");
+  EXPECT_EQ(FramePattern("f_%3d.obj").path(3), "f_003.obj");
+}
+
+TEST(FramePattern, HoudiniStyle) {
+  EXPECT_EQ(FramePattern("geo/fluid.$F4.ply").path(12), "geo/fluid.0012.ply");
+  EXPECT_EQ(FramePattern("fluid.$F.ply").path(12), "fluid.12.ply");
+  EXPECT_EQ(FramePattern("fluid.$F.ply").prefix(), "fluid.");
+  EXPECT_EQ(FramePattern("fluid.$F.ply").suffix(), ".ply");
+}
+
+TEST(FramePattern, NegativeFrames) { EXPECT_EQ(FramePattern("f.####.ply").path(-3), "f.-0003.ply"); }
+
+TEST(FramePattern, RejectsPatternsWithoutOrWithTwoTokens) {
+  EXPECT_THROW(FramePattern("mesh.ply"), InputError);
+  EXPECT_THROW(FramePattern("mesh.####.%04d.ply"), InputError);
+  EXPECT_THROW(FramePattern("dir$F/mesh.ply"), InputError);
+  try {
+    FramePattern("mesh.ply");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mesh.ply"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("####"), std::string::npos);
+  }
+}
+
+TEST(FramePattern, DiscoversOnlyMatchingFiles) {
+  test::TempDir dir;
+  for (const char* name : {"m.0001.ply", "m.0002.ply", "m.0010.ply", "m.12345.ply", "m.001.ply",
+                           "m.00002.ply", "m.0003.obj", "n.0004.ply", "m.00a5.ply", "m.0006.ply.tmp"}) {
+    test::write_file(dir.path() / name, "x");
+  }
+  const std::vector<int> frames = FramePattern(dir.file("m.####.ply")).discover();
+  EXPECT_EQ(frames, (std::vector<int>{1, 2, 10, 12345}));
+  EXPECT_EQ(FramePattern(dir.file("m.%04d.ply")).discover(), frames);
+  EXPECT_EQ(FramePattern(dir.file("m.$F4.ply")).discover(), frames);
+  EXPECT_TRUE(FramePattern(dir.file("nothing.####.ply")).discover().empty());
+  EXPECT_TRUE(FramePattern(dir.file("sub/m.####.ply")).discover().empty());
+}
+
+TEST(FramePattern, DiscoversUnpadded) {
+  test::TempDir dir;
+  for (const char* name : {"m.1.ply", "m.2.ply", "m.10.ply", "m.07.ply"}) test::write_file(dir.path() / name, "x");
+  EXPECT_EQ(FramePattern(dir.file("m.$F.ply")).discover(), (std::vector<int>{1, 2, 10}));
+}
+
+TEST(FrameRange, Ranges) {
+  EXPECT_EQ(parse_frame_range("1-5"), (std::vector<int>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(parse_frame_range("1-10x3"), (std::vector<int>{1, 4, 7, 10}));
+  EXPECT_EQ(parse_frame_range("7"), (std::vector<int>{7}));
+  EXPECT_EQ(parse_frame_range("1-3,10-14x2,2"), (std::vector<int>{1, 2, 3, 10, 12, 14}));
+  EXPECT_EQ(parse_frame_range("-2-1"), (std::vector<int>{-2, -1, 0, 1}));
+}
+
+TEST(FrameRange, RejectsMalformed) {
+  for (const char* bad : {"", "a-b", "5-1", "1-10x0", "1-10x-2", "1-", "1,,2", "1-10y2", "3.5"}) {
+    EXPECT_THROW(parse_frame_range(bad), InputError) << bad;
+  }
+}
+
+TEST(Sequence, MissingFrameInRangeIsNamed) {
+  test::TempDir dir;
+  for (const char* name : {"m.0001.ply", "m.0002.ply", "m.0004.ply"}) test::write_file(dir.path() / name, "x");
+  InputOptions in;
+  in.pattern = dir.file("m.####.ply");
+  EXPECT_EQ(Sequence(in).frames(), (std::vector<int>{1, 2, 4}));
+  in.frames = "1-4";
+  try {
+    Sequence s(in);
+    FAIL() << "a missing frame must be an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), dir.file("m.0003.ply"));
+    EXPECT_NE(e.problem().find("missing"), std::string::npos);
+  }
+  in.frames = "1-4x3";
+  EXPECT_EQ(Sequence(in).frames(), (std::vector<int>{1, 4}));
+}
+
+TEST(Sequence, NoFramesIsAnError) {
+  test::TempDir dir;
+  InputOptions in;
+  in.pattern = dir.file("m.####.ply");
+  EXPECT_THROW(Sequence s(in), InputError);
+}
+
+TEST(Options, DefaultsAndValidation) {
+  TrackingOptions o;
+  EXPECT_NO_THROW(o.validate());
+  const TrackingOptions r = o.resolved(2.0);
+  EXPECT_DOUBLE_EQ(r.radius, 0.1);
+  EXPECT_DOUBLE_EQ(r.max_projection, 0.025);
+  EXPECT_DOUBLE_EQ(r.thickness, 0.025);
+  o.radius = 0.3;
+  EXPECT_DOUBLE_EQ(o.resolved(2.0).radius, 0.3);
+  o.max_distortion = 1.0;
+  EXPECT_THROW(o.validate(), InputError);
+  o = TrackingOptions{};
+  o.fade_frames = 0;
+  EXPECT_THROW(o.validate(), InputError);
+  o = TrackingOptions{};
+  o.plane_angle = std::nan("");
+  EXPECT_THROW(o.validate(), InputError);
+  EXPECT_EQ(criterion_from_string("sphere"), Criterion::Sphere);
+  EXPECT_EQ(fading_from_string("linear"), Fading::Linear);
+  EXPECT_THROW(criterion_from_string("cube"), InputError);
+}
+
+TEST(Options, EveryTable3And4ParameterIsVisited) {
+  TrackingOptions o;
+  std::vector<std::string> names;
+  visit_options(o, [&](const char* name, auto&, const char*) { names.emplace_back(name); });
+  for (const char* expected : {"radius", "plane-angle", "patch-vertex-angle", "max-distortion", "uv-scale",
+                               "max-projection", "fade-frames", "thickness", "kill-alpha",
+                               "min-vertex-quality"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+  }
+}
+
+}  // namespace
+}  // namespace fluidtex

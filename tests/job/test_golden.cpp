@@ -1,0 +1,60 @@
+// Golden regression: a small scene's atlases for 3 frames compared with the
+// committed EXRs in tests/golden/ through OpenImageIO's ImageBufAlgo::compare.
+// Tolerance: 2e-3 per channel (half-float EXR quantisation is ~5e-4 at 1.0;
+// the rest covers compilers' floating-point contraction differences); at
+// most 0.1% of the pixels may exceed it.
+// Regenerate after an intended change with FLUIDTEX_UPDATE_GOLDEN=1.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/scenes/scenes.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Golden, SmallRotationAtlasesMatch) {
+  test::TempDir dir;
+  SceneOptions so;
+  so.frames = 3;
+  so.resolution = 12;
+  write_scene("rotation", dir.str(), so);
+  write_image(dir.file("gravel.exr"), make_exemplar("gravel", 32, 4));
+  JobOptions job;
+  job.input.pattern = dir.file("rotation.####.ply");
+  job.exemplar = dir.file("gravel.exr");
+  job.output.dir = dir.file("out");
+  job.synthesis.atlas.size = 64;
+  job.seed = 11;
+  run_job(job, silent_reporter());
+
+  const fs::path golden = fs::path(FLUIDTEX_SOURCE_DIR) / "tests" / "golden";
+  const bool update = std::getenv("FLUIDTEX_UPDATE_GOLDEN") != nullptr;
+  for (const char* name : {"atlas.0001.exr", "atlas.0002.exr", "atlas.0003.exr"}) {
+    const fs::path produced = dir.path() / "out" / name;
+    ASSERT_TRUE(fs::exists(produced)) << name;
+    if (update) {
+      fs::create_directories(golden);
+      fs::copy_file(produced, golden / name, fs::copy_options::overwrite_existing);
+      continue;
+    }
+    ASSERT_TRUE(fs::exists(golden / name)) << "missing golden " << name;
+    OIIO::ImageBuf a(produced.string()), b((golden / name).string());
+    const auto result = OIIO::ImageBufAlgo::compare(a, b, 2e-3f, 2e-3f);
+    EXPECT_FALSE(result.error) << name;
+    EXPECT_LE(result.nfail, static_cast<OIIO::imagesize_t>(a.spec().width * a.spec().height / 1000)) << name
+        << ": max error " << result.maxerror << " at " << result.maxx << "," << result.maxy;
+  }
+}
+
+}  // namespace
+}  // namespace fluidtex

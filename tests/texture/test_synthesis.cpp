@@ -1,0 +1,320 @@
+// Atlas and texel synthesis: the atlas's invariants, Eq. 7's statistics, the
+// single-patch reproduction of the exemplar, and raster vs exact agreement.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "fluidtex/texture/atlas.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/tracker.h"
+#include "mesh_fixtures.h"
+#include "synthesis_fixtures.h"
+
+namespace fluidtex {
+namespace {
+
+double tri_area2(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+}
+
+void check_atlas(const SurfaceIndex& surface, const Atlas& atlas, const AtlasOptions& options,
+                 double min_efficiency = 0.3) {
+  const FrameMesh& mesh = surface.mesh();
+  ASSERT_EQ(atlas.face_chart.size(), mesh.triangles.size());
+  // Every triangle in exactly one chart.
+  std::vector<int> seen(mesh.triangles.size(), 0);
+  for (std::size_t c = 0; c < atlas.charts.size(); ++c) {
+    for (int f : atlas.charts[c].faces) {
+      ++seen[f];
+      EXPECT_EQ(atlas.face_chart[f], static_cast<int>(c));
+    }
+  }
+  for (std::size_t f = 0; f < seen.size(); ++f) ASSERT_EQ(seen[f], 1) << "face " << f;
+  // Corners inside the atlas and inside their chart's rectangle; chart
+  // rectangles do not overlap.
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Chart& chart = atlas.charts[atlas.face_chart[f]];
+    for (const Vec2& p : atlas.corner_px[f]) {
+      EXPECT_GE(p.x(), chart.origin.x() + options.gutter - 1e-6);
+      EXPECT_GE(p.y(), chart.origin.y() + options.gutter - 1e-6);
+      EXPECT_LE(p.x(), chart.origin.x() + chart.extent.x() - options.gutter + 1e-6);
+      EXPECT_LE(p.y(), chart.origin.y() + chart.extent.y() - options.gutter + 1e-6);
+      EXPECT_GE(p.x(), 0.0);
+      EXPECT_LE(p.x(), atlas.size);
+    }
+  }
+  // Chart footprints (texel centres inside their triangles) keep the gutter
+  // between them: no texel of another chart within 2·gutter − 1 (L∞).
+  const int n = atlas.size;
+  std::vector<int> owner(static_cast<std::size_t>(n) * n, -1);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& p = atlas.corner_px[f];
+    const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+    for (int y = std::max(0, static_cast<int>(lo.y()) - 1); y <= std::min(n - 1, static_cast<int>(hi.y()) + 1); ++y) {
+      for (int x = std::max(0, static_cast<int>(lo.x()) - 1); x <= std::min(n - 1, static_cast<int>(hi.x()) + 1); ++x) {
+        const Vec2 q(x + 0.5, y + 0.5);
+        const double s0 = tri_area2(p[0], p[1], q), s1 = tri_area2(p[1], p[2], q), s2 = tri_area2(p[2], p[0], q);
+        if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) {
+          owner[static_cast<std::size_t>(y) * n + x] = atlas.face_chart[f];
+        }
+      }
+    }
+  }
+  const int reach = 2 * options.gutter - 1;
+  int conflicts = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const int o = owner[static_cast<std::size_t>(y) * n + x];
+      if (o < 0) continue;
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= n || yy >= n) continue;
+          const int other = owner[static_cast<std::size_t>(yy) * n + xx];
+          conflicts += other >= 0 && other != o;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(conflicts, 0) << "charts closer than the gutter";
+  // Uniform texel density: per chart, atlas area / 3D area ≈ density², and
+  // per-chart area distortion bounded.
+  for (const Chart& chart : atlas.charts) {
+    double px = 0.0;
+    for (int f : chart.faces) {
+      const auto& c = atlas.corner_px[f];
+      px += 0.5 * std::abs(tri_area2(c[0], c[1], c[2]));
+    }
+    EXPECT_NEAR(px / (chart.area3 * atlas.texels_per_unit * atlas.texels_per_unit), 1.0, 1e-6);
+    EXPECT_LE(chart.stretch, options.max_stretch + 1e-9);
+  }
+  EXPECT_GT(atlas.packing_efficiency, min_efficiency);
+  // The UV mesh: per-corner uvs in [0,1]².
+  const UVMesh uv = atlas_uv_mesh(surface, atlas);
+  ASSERT_EQ(uv.uv_triangles.size(), mesh.triangles.size());
+  for (const Vec2& p : uv.uvs) {
+    EXPECT_GE(p.x(), 0.0);
+    EXPECT_LE(p.x(), 1.0);
+    EXPECT_GE(p.y(), 0.0);
+    EXPECT_LE(p.y(), 1.0);
+  }
+}
+
+TEST(Atlas, InvariantsOnFlatAndClosedSurfaces) {
+  SceneOptions so;
+  so.resolution = 24;
+  so.frames = 48;
+  for (const char* scene : {"split", "drop"}) {
+    const FrameMesh mesh = make_scene_frame(scene, 30, so);
+    const SurfaceIndex surface(mesh);
+    AtlasOptions o;
+    o.size = 512;
+    const Atlas atlas = build_atlas(surface, o);
+    SCOPED_TRACE(scene);
+    check_atlas(surface, atlas, o);
+  }
+}
+
+TEST(Atlas, TexelMapHitsItsFace) {
+  const FrameMesh mesh = test::uv_sphere(12, 24, 1.0);
+  const SurfaceIndex surface(mesh);
+  AtlasOptions o;
+  o.size = 256;
+  const Atlas atlas = build_atlas(surface, o);
+  check_atlas(surface, atlas, o, 0.2);
+  const TexelMap map = build_texel_map(surface, atlas);
+  std::size_t inside = 0;
+  for (std::size_t i = 0; i < map.face.size(); ++i) {
+    if (map.face[i] < 0) continue;
+    ++inside;
+    // The texel centre is where the face's barycentrics put it in the atlas.
+    const auto& c = atlas.corner_px[map.face[i]];
+    const Vec2 p = map.bary[i][0] * c[0] + map.bary[i][1] * c[1] + map.bary[i][2] * c[2];
+    EXPECT_NEAR(p.x(), static_cast<double>(i % map.size) + 0.5, 1e-6);
+    EXPECT_NEAR(p.y(), static_cast<double>(i / map.size) + 0.5, 1e-6);
+  }
+  // The texels inside charts add up to the chart area, within the rim.
+  // (No packing bound here: at 256 texels the gutters of a sphere's many
+  // small charts take a large share.)
+  EXPECT_NEAR(static_cast<double>(inside) / (atlas.packing_efficiency * o.size * o.size), 1.0, 0.05);
+}
+
+/// One flat patch of weight 1 everywhere over a unit square.
+TEST(Synthesis, SinglePatchReproducesTheExemplar) {
+  test::OnePatch scene(128);
+  scene.add(Vec2(0.25, 0.5), 1.0);
+  const Exemplar exemplar(make_exemplar("gravel", 64, 3));
+  SynthesisOptions so;
+  so.tile_size = 1.0;  // the unit square shows exactly one tile
+  so.radius = 1e3;     // the fixture's weights: core ≈ w everywhere
+  const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+  EXPECT_EQ(r.uncovered_texels, 0u);
+  ASSERT_GT(r.chart_texels, 5000u);
+  // Each texel equals the exemplar's bilinear lookup at its surface point.
+  double worst = 0.0;
+  for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
+    if (scene.map.face[i] < 0) continue;
+    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+    float expect[3];
+    exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect[c]));
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
+/// Two patches of weight 1 over the square whose disks (radius 0.3) sit on
+/// opposite corners: each corner blends only its own disk's patch (the other
+/// patch's weight there is all coverage tail), the middle, which no disk
+/// reaches, blends both tails, and nothing is bare.
+TEST(Synthesis, CoverageTailBlendsOnlyWhereNoDiskCovers) {
+  test::OnePatch scene(128);
+  scene.add(Vec2(0.25, 0.5), 1.0);
+  for (Vec2& uv : scene.add(Vec2(0.6, 0.1), 1.0).uvs) uv -= Vec2(1.0, 1.0);  // disk centre at (1, 1)
+  const Exemplar exemplar(make_exemplar("gravel", 64, 3));
+  SynthesisOptions so;
+  so.tile_size = 1.0;
+  so.radius = 0.3;
+  so.aov = true;
+  const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+  EXPECT_EQ(r.uncovered_texels, 0u);
+  std::size_t corner = 0, middle = 0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
+    if (scene.map.face[i] < 0) continue;
+    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+    const double da = Vec2(q.x(), q.y()).norm(), db = Vec2(q.x() - 1.0, q.y() - 1.0).norm();
+    if (da < 0.25 || db < 0.25) {
+      ++corner;
+      EXPECT_EQ(r.count.pixels[i], 1.0f);
+      float expect[3];
+      if (da < 0.25) exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
+      else exemplar.sample(0.6 + q.x() - 1.0, 0.1 + q.y() - 1.0, expect);
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect[c]));
+    } else if (da > 0.3 + 0.18 && db > 0.3 + 0.18) {  // vertex weights interpolate over 0.125-cells (diagonal < 0.18)
+      ++middle;
+      EXPECT_EQ(r.count.pixels[i], 2.0f);
+    }
+  }
+  EXPECT_GT(corner, 300u);
+  EXPECT_GT(middle, 300u);
+  EXPECT_LT(worst, 1e-5);
+}
+
+TEST(Synthesis, Eq7KeepsMeanAndVarianceOfUncorrelatedPatches) {
+  // Four patches with equal weight, far-apart anchors and turned uv: their
+  // lookups are uncorrelated. Eq. 7 keeps the exemplar's mean and variance;
+  // linear blending keeps the mean and loses contrast (≈ 1/sqrt(4)).
+  test::OnePatch scene(256);
+  for (int k = 0; k < 4; ++k) scene.add(Vec2(0.13 * k + 0.05, 0.29 * k + 0.1), 1.0, 0.9 * k);
+  const Exemplar exemplar(make_exemplar("gravel", 64, 11));
+  SynthesisOptions so;
+  so.tile_size = 0.25;  // 16 tiles over the square: good statistics
+  so.radius = 1e3;
+  auto stats = [&](Blend blend) {
+    so.blend = blend;
+    const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+    double sum = 0, sum2 = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
+      if (scene.map.face[i] < 0) continue;
+      const double v = r.color.pixels[i * 3 + 1];
+      sum += v, sum2 += v * v, ++n;
+    }
+    const double mean = sum / n;
+    return std::make_pair(mean, std::sqrt(sum2 / n - mean * mean));
+  };
+  const auto [mean7, sd7] = stats(Blend::ContrastPreserving);
+  const auto [mean_lin, sd_lin] = stats(Blend::Linear);
+  EXPECT_NEAR(mean7, exemplar.mean()[1], 0.03);
+  EXPECT_NEAR(sd7 / exemplar.stddev()[1], 1.0, 0.15);
+  EXPECT_NEAR(mean_lin, exemplar.mean()[1], 0.03);
+  EXPECT_LT(sd_lin / exemplar.stddev()[1], 0.75);
+}
+
+TEST(Synthesis, RasterAgreesWithExactAndCoversGeneratedScenes) {
+  SceneOptions so;
+  so.resolution = 24;
+  so.frames = 48;
+  const Exemplar exemplar(make_exemplar("bubbles", 64, 5));
+  for (const char* scene : {"rotation", "merge", "drop"}) {
+    SCOPED_TRACE(scene);
+    TrackerSettings ts;
+    ts.seed = 3;
+    Tracker tracker(ts);
+    for (int f = 1; f <= 6; ++f) {
+      tracker.step(std::make_shared<FrameMesh>(make_scene_frame(scene, f, so)), f, 1.0 / so.fps);
+    }
+    AtlasOptions ao;
+    ao.size = 256;
+    const Atlas atlas = build_atlas(*tracker.surface(), ao);
+    const TexelMap map = build_texel_map(*tracker.surface(), atlas);
+    SynthesisOptions opt;
+    const TrackingOptions& o = tracker.settings().method;
+    opt.tile_size = 2.6 * o.radius;
+    opt.radius = o.radius;
+    opt.projection_tolerance = o.max_projection;
+    const SynthesisResult raster = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
+    opt.method = SynthesisMethod::Exact;
+    const SynthesisResult exact = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
+    if (std::string(scene) == "merge") {
+      // The merge outline grows faster than patches follow near the neck;
+      // the tracker refills such gaps from its candidates one frame later,
+      // and a texel or two between candidates can stay bare (measured: 1 of
+      // ~25k here). Known gap, reported in stats as uncovered_fraction.
+      EXPECT_LE(raster.uncovered_fraction(), 1e-3);
+      EXPECT_LE(exact.uncovered_fraction(), 1e-3);
+    } else {
+      EXPECT_EQ(raster.uncovered_texels, 0u);
+      EXPECT_EQ(exact.uncovered_texels, 0u);
+    }
+    // Away from chart borders they agree closely.
+    std::size_t n = 0, far = 0;
+    double mean_diff = 0.0;
+    const int size = atlas.size;
+    for (std::size_t i = 0; i < map.face.size(); ++i) {
+      if (map.face[i] < 0) continue;
+      const int x = static_cast<int>(i % size), y = static_cast<int>(i / size);
+      bool interior = true;
+      for (int dy = -2; dy <= 2 && interior; ++dy) {
+        for (int dx = -2; dx <= 2 && interior; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          interior = xx >= 0 && yy >= 0 && xx < size && yy < size &&
+                     map.face[static_cast<std::size_t>(yy) * size + xx] >= 0 &&
+                     atlas.face_chart[map.face[static_cast<std::size_t>(yy) * size + xx]] == atlas.face_chart[map.face[i]];
+        }
+      }
+      if (!interior) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double d = std::abs(raster.color.pixels[i * 3 + c] - exact.color.pixels[i * 3 + c]);
+        mean_diff += d;
+        far += d > 0.05;
+        ++n;
+      }
+    }
+    ASSERT_GT(n, 1000u);
+    EXPECT_LT(mean_diff / n, 0.002);
+    EXPECT_LT(static_cast<double>(far) / n, 0.01);
+  }
+}
+
+TEST(Dilation, FillsGuttersFromTheCharts) {
+  Image im;
+  im.width = im.height = 8;
+  im.channels = 1;
+  im.pixels.assign(64, 0.0f);
+  std::vector<char> mask(64, 0);
+  im.pixels[3 * 8 + 3] = 1.0f;
+  mask[3 * 8 + 3] = 1;
+  dilate(im, mask, 2);
+  EXPECT_EQ(im.pixels[3 * 8 + 5], 1.0f);  // two rings out
+  EXPECT_EQ(im.pixels[3 * 8 + 6], 0.0f);  // three rings out: untouched
+  EXPECT_EQ(mask[3 * 8 + 5], 1);
+  EXPECT_EQ(mask[3 * 8 + 6], 0);
+}
+
+}  // namespace
+}  // namespace fluidtex

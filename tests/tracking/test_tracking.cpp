@@ -1,0 +1,501 @@
+// Tracking stages: the paper's equations on known inputs, sampling
+// properties, patch creation, and the tracker's determinism and state.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include <oneapi/tbb/global_control.h>
+
+#include "fluidtex/tracking/advection.h"
+#include "fluidtex/geometry/distortion.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/tracking/fading.h"
+#include "fluidtex/tracking/patch_builder.h"
+#include "fluidtex/tracking/poisson.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/tracking/tracker.h"
+#include "mesh_fixtures.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+// --- Eq. 1 and the plane test ----------------------------------------------
+
+TEST(PoissonCriterion, EllipsoidKInTangentSpace) {
+  const Vec3 p(1, 2, 3), n(0, 0, 1);
+  EXPECT_DOUBLE_EQ(ellipsoid_k(p, n, p, 0.5, 0.1), 0.0);
+  EXPECT_NEAR(ellipsoid_k(p, n, p + Vec3(0.5, 0, 0), 0.5, 0.1), 1.0, 1e-12);  // on the rim
+  EXPECT_NEAR(ellipsoid_k(p, n, p + Vec3(0, 0, 0.1), 0.5, 0.1), 1.0, 1e-12);  // on the cap
+  EXPECT_NEAR(ellipsoid_k(p, n, p + Vec3(0.3, 0.4, 0), 0.5, 0.1), 1.0, 1e-12);
+  EXPECT_LT(ellipsoid_k(p, n, p + Vec3(0.2, 0.2, 0.05), 0.5, 0.1), 1.0);
+  EXPECT_GT(ellipsoid_k(p, n, p + Vec3(0.0, 0.0, 0.15), 0.5, 0.1), 1.0);  // above the thin shell
+  // A tilted frame: the normal along x makes x the thin axis.
+  EXPECT_GT(ellipsoid_k(p, Vec3(1, 0, 0), p + Vec3(0.2, 0, 0), 0.5, 0.1), 1.0);
+  EXPECT_LT(ellipsoid_k(p, Vec3(1, 0, 0), p + Vec3(0, 0.4, 0), 0.5, 0.1), 1.0);
+}
+
+TEST(PoissonCriterion, PlaneTestAndCriteria) {
+  PoissonParams params{0.5, 0.1, 0.5, Criterion::Ellipsoid};
+  const Vec3 p(0, 0, 0), up(0, 0, 1), down(0, 0, -1);
+  const Vec3 tilted = Vec3(1, 0, 1).normalized();  // dot 0.707 > 0.5
+  EXPECT_TRUE(same_plane(up, tilted, 0.5));
+  EXPECT_FALSE(same_plane(up, Vec3(1, 0, 0.2).normalized(), 0.5));
+  EXPECT_TRUE(rejects(p, up, Vec3(0.2, 0, 0), up, 0.5, params));
+  EXPECT_FALSE(rejects(p, up, Vec3(0.2, 0, 0), down, 0.5, params));   // other side of a sheet
+  EXPECT_FALSE(rejects(p, up, Vec3(0, 0, 0.2), up, 0.5, params));     // a layer above, beyond cs
+  params.criterion = Criterion::Plane;
+  EXPECT_TRUE(rejects(p, up, Vec3(0, 0, 0.2), up, 0.5, params));
+  EXPECT_FALSE(rejects(p, up, Vec3(0.2, 0, 0), down, 0.5, params));
+  params.criterion = Criterion::Sphere;
+  EXPECT_TRUE(rejects(p, up, Vec3(0.2, 0, 0), down, 0.5, params));
+}
+
+// --- Distortion (Sorkine) --------------------------------------------------
+
+TEST(Distortion, KnownAffineMaps) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0.3, 0.8, 0);
+  const RestTriangle rest = rest_shape(a, b, c);
+  EXPECT_NEAR(triangle_distortion(rest, a, b, c), 1.0, 1e-12);
+  // A rigid motion in 3D is still an isometry.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  EXPECT_NEAR(triangle_distortion(rest, R * a + Vec3(5, 1, 2), R * b + Vec3(5, 1, 2), R * c + Vec3(5, 1, 2)), 1.0, 1e-12);
+  const Eigen::Matrix3d stretch = Vec3(2, 1, 1).asDiagonal();
+  EXPECT_NEAR(triangle_distortion(rest, stretch * a, stretch * b, stretch * c), 2.0, 1e-12);
+  const Eigen::Matrix3d shrink = Vec3(1, 0.5, 1).asDiagonal();
+  EXPECT_NEAR(triangle_distortion(rest, shrink * a, shrink * b, shrink * c), 2.0, 1e-12);
+  EXPECT_TRUE(std::isinf(triangle_distortion(rest, a, b, a)));  // collapsed
+  EXPECT_DOUBLE_EQ(triangle_quality(1.0, 3.0), 1.0);
+  EXPECT_DOUBLE_EQ(triangle_quality(2.0, 3.0), 0.5);
+  EXPECT_DOUBLE_EQ(triangle_quality(4.0, 3.0), 0.0);
+}
+
+// --- Fading: Eq. 5 and Eq. 6 ------------------------------------------------
+
+TEST(Fading, FlowFadesWithinTheTimeTheFlowCarriesAPatchOneRadius) {
+  // τ = 10, ρ = 0 (Eq. 6: 0.1 per frame); a centre moving 0.25 d per frame
+  // fades in 4 frames, one moving 0.05 d per frame at Eq. 6's pace.
+  auto frames = [](DiskState s, double motion) {
+    double kt = s == DiskState::FadingIn ? 0.0 : 1.0;
+    for (int n = 1;; ++n) {
+      const FadeResult r = fade_step(s, kt, 0, 10, Fading::Flow, motion);
+      if (r.remove || r.state == DiskState::Active) return n;
+      kt = r.kt;
+    }
+  };
+  EXPECT_EQ(frames(DiskState::FadingIn, 0.25), 4);
+  EXPECT_EQ(frames(DiskState::FadingOutDistorted, 0.25), 4);
+  EXPECT_EQ(frames(DiskState::FadingIn, 0.05), 10);
+  EXPECT_EQ(frames(DiskState::FadingOutClose, 0.0), 10);
+}
+
+TEST(Fading, DensityFadesFasterAndRemovesAtZero) {
+  // Fade-in over τ = 10 frames with ρ = 0: 10 steps; with ρ = 4: 2 steps.
+  auto frames_to_active = [](int rho, Fading fading) {
+    DiskState s = DiskState::FadingIn;
+    double kt = 0.0;
+    int n = 0;
+    while (s == DiskState::FadingIn) {
+      const FadeResult r = fade_step(s, kt, rho, 10, fading);
+      s = r.state, kt = r.kt, ++n;
+    }
+    EXPECT_DOUBLE_EQ(kt, 1.0);
+    return n;
+  };
+  EXPECT_EQ(frames_to_active(0, Fading::Density), 10);
+  EXPECT_EQ(frames_to_active(4, Fading::Density), 2);
+  EXPECT_EQ(frames_to_active(4, Fading::Linear), 10);  // Eq. 5 ignores ρ
+  EXPECT_EQ(frames_to_active(4, Fading::Flow), 2);     // still liquid: Eq. 6
+  // Eq. 6 fade-out: 1 − (t − t_k)(ρ + 1)/τ.
+  FadeResult r = fade_step(DiskState::FadingOutClose, 1.0, 1, 10, Fading::Density);
+  EXPECT_NEAR(r.kt, 0.8, 1e-12);
+  EXPECT_FALSE(r.remove);
+  // A very large ρ would make K_t negative: removed at once.
+  r = fade_step(DiskState::FadingOutDistorted, 1.0, 50, 10, Fading::Density);
+  EXPECT_TRUE(r.remove);
+  r = fade_step(DiskState::FadingOutClose, 0.1, 0, 10, Fading::Density);
+  EXPECT_TRUE(r.remove);  // reaches exactly 0
+  r = fade_step(DiskState::Active, 1.0, 7, 10, Fading::Density);
+  EXPECT_EQ(r.state, DiskState::Active);
+  EXPECT_DOUBLE_EQ(r.kt, 1.0);
+}
+
+// --- Patches: LSCM, Eq. 4 -----------------------------------------------------
+
+SurfaceSample sample_near(const SurfaceIndex& s, const Vec3& p) {
+  SurfaceSample out;
+  out.point = s.closest_point(p);
+  out.normal = s.normal_at(out.point);
+  return out;
+}
+
+TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {
+  const FrameMesh mesh = test::flat_grid(40);
+  const SurfaceIndex surface(mesh);
+  TrackingOptions o;
+  o = o.resolved(1.0);
+  o.radius = 0.15;
+  std::string why;
+  const auto patch = build_patch(surface, sample_near(surface, Vec3(0.52, 0.47, 0)), o, 7, 1, 1, 0.0, &why);
+  ASSERT_TRUE(patch) << why;
+  EXPECT_EQ(patch->id, 7u);
+  double area3 = 0, area_uv = 0;
+  for (std::size_t t = 0; t < patch->triangles.size(); ++t) {
+    const Tri& tri = patch->triangles[t];
+    area3 += 0.5 * (patch->positions[tri[1]] - patch->positions[tri[0]]).cross(patch->positions[tri[2]] - patch->positions[tri[0]]).norm();
+    const Vec2 e1 = patch->uvs[tri[1]] - patch->uvs[tri[0]], e2 = patch->uvs[tri[2]] - patch->uvs[tri[0]];
+    area_uv += 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+    // uv is an isometry of a flat patch: uv distances equal 3D distances.
+    EXPECT_NEAR((patch->uvs[tri[1]] - patch->uvs[tri[0]]).norm(),
+                (patch->positions[tri[1]] - patch->positions[tri[0]]).norm(), 1e-6);
+  }
+  EXPECT_NEAR(area_uv, area3, 1e-9 * area3);
+  // Every vertex within the selection radius (plus one grid diagonal: a
+  // triangle reaching into the ball is taken whole), the centre at uv 0.
+  double farthest = 0.0;
+  for (std::size_t v = 0; v < patch->num_vertices(); ++v) {
+    farthest = std::max(farthest, (patch->positions[v] - Vec3(0.52, 0.47, 0)).norm());
+    EXPECT_LE((patch->positions[v] - Vec3(0.52, 0.47, 0)).norm(), 1.6 * 0.15 + std::sqrt(2.0) / 40 + 1e-9);
+    EXPECT_NEAR(patch->uvs[v].norm(), (patch->positions[v] - Vec3(0.52, 0.47, 0)).norm(), 1e-6);
+  }
+  EXPECT_GT(farthest, 1.6 * 0.15 - std::sqrt(2.0) / 40);  // and it reaches out that far
+  Patch p = *patch;
+  EXPECT_EQ(update_distortion(p, surface, o), RetireCause::None);
+  EXPECT_NEAR(p.max_distortion, 1.0, 1e-6);
+  // A disk-sized patch reaches beyond d, with a border.
+  int border = 0;
+  for (auto b : p.border) border += b;
+  EXPECT_GT(border, 10);
+  EXPECT_GT(p.num_vertices(), 100u);
+  EXPECT_GE(p.anchor.x(), 0.0);
+  EXPECT_LT(p.anchor.x(), 1.0);
+}
+
+TEST(PatchBuilder, SelectionStaysADiskAroundAHole) {
+  // A grid with a hole of one quad near the centre: the patch must stay a
+  // topological disk (one boundary loop) so LSCM applies.
+  FrameMesh mesh = test::flat_grid(20);
+  std::vector<Tri> kept;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (t != 2 * (10 * 20 + 11) && t != 2 * (10 * 20 + 11) + 1) kept.push_back(mesh.triangles[t]);
+  }
+  mesh.triangles = kept;
+  const SurfaceIndex surface(mesh);
+  TrackingOptions o = TrackingOptions{}.resolved(1.0);
+  o.radius = 0.2;
+  const auto patch = build_patch(surface, sample_near(surface, Vec3(0.5, 0.5, 0)), o, 0, 1, 1, 0.0);
+  ASSERT_TRUE(patch);
+  // Euler characteristic of a disk: V − E + F = 1.
+  std::set<std::pair<int, int>> edges;
+  for (const Tri& t : patch->triangles) {
+    for (int k = 0; k < 3; ++k) edges.insert({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  }
+  EXPECT_EQ(static_cast<long>(patch->num_vertices()) - static_cast<long>(edges.size()) +
+                static_cast<long>(patch->triangles.size()),
+            1);
+}
+
+TEST(Weights, Eq4SpatialTimesTemporal) {
+  Patch p;
+  p.positions.assign(4, Vec3::Zero());
+  p.uvs = {Vec2(0, 0), Vec2(0.05, 0), Vec2(0.0, 0.2), Vec2(0.03, 0.04)};
+  p.border = {0, 0, 0, 1};
+  p.quality = {1.0f, 0.5f, 1.0f, 1.0f};
+  p.kt = 0.5;
+  TrackingOptions o;
+  o.radius = 0.1;
+  o.uv_scale = 1.0;
+  o.selection_margin = 0.6;
+  update_weights(p, o);
+  // Eq. 4 plus the coverage tail ε·(1 − r/((1 + β)d)), (1 + β)d = 0.16.
+  const double eps = kCoverageTail;
+  EXPECT_NEAR(p.weight[0], (1 + eps) * 0.5, 1e-7);                                // centre: K_S = 1
+  EXPECT_NEAR(p.weight[1], ((1 - 0.5) + eps * (1 - 0.05 / 0.16)) * 0.5 * 0.5, 1e-7);  // half way, Q_V = 0.5
+  EXPECT_EQ(p.weight[2], 0.0f);                                                   // beyond (1 + β)d
+  EXPECT_EQ(p.weight[3], 0.0f);                                                   // border: d_V = 0
+}
+
+// --- Sampling ------------------------------------------------------------------
+
+/// Largest distance from any surface vertex to the nearest disk centre.
+double coverage_gap(const FrameMesh& mesh, const std::vector<SurfaceSample>& disks) {
+  double worst = 0;
+  for (const Vec3& v : mesh.positions) {
+    double best = 1e300;
+    for (const SurfaceSample& d : disks) best = std::min(best, (d.point.position - v).norm());
+    worst = std::max(worst, best);
+  }
+  return worst;
+}
+
+TEST(PoissonSampling, SphereIsMaximalAndRespectsTheCriterion) {
+  const FrameMesh mesh = test::uv_sphere(40, 80, 1.0);
+  const SurfaceIndex surface(mesh);
+  const PoissonParams params{0.3, 0.075, 0.5, Criterion::Ellipsoid};
+  const auto candidates = surface_candidates(surface, params.radius, 9);
+  const auto disks = fill_gaps({}, candidates, surface, params, 0.0);
+  ASSERT_GT(disks.size(), 40u);
+  for (std::size_t i = 0; i < disks.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_FALSE(rejects(disks[j].point.position, disks[j].normal, disks[i].point.position, disks[i].normal,
+                           params.radius, params));
+    }
+  }
+  // Maximal: no point of the sphere is farther than ~d from a disk.
+  EXPECT_LT(coverage_gap(mesh, disks), 1.1 * params.radius);
+  // Deterministic for a seed, different for another.
+  const auto again = fill_gaps({}, surface_candidates(surface, params.radius, 9), surface, params, 0.0);
+  ASSERT_EQ(again.size(), disks.size());
+  for (std::size_t i = 0; i < disks.size(); ++i) EXPECT_EQ(again[i].point.position, disks[i].point.position);
+  const auto other = fill_gaps({}, surface_candidates(surface, params.radius, 10), surface, params, 0.0);
+  EXPECT_NE(other.front().point.position, disks.front().point.position);
+}
+
+TEST(PoissonSampling, TwoCloseParallelPlanesAreBothCovered) {
+  // Figs. 3 and 5: two surfaces closer than d. The ellipsoid criterion covers
+  // both; a plain 3D radius (or plane test + radius) leaves the lower one bare.
+  const double d = 0.2;
+  FrameMesh mesh = test::flat_grid(40, 1.0, 0.0);
+  test::append(mesh, test::flat_grid(40, 1.0, 0.5 * d));
+  const SurfaceIndex surface(mesh);
+  FrameMesh lower = test::flat_grid(40, 1.0, 0.0);
+  FrameMesh upper = test::flat_grid(40, 1.0, 0.5 * d);
+  auto gaps = [&](Criterion c) {
+    const PoissonParams params{d, 0.25 * d, 0.5, c};
+    const auto disks = fill_gaps({}, surface_candidates(surface, d, 3), surface, params, 0.0);
+    std::vector<SurfaceSample> on_lower, on_upper;
+    for (const auto& s : disks) (s.point.position.z() < 0.25 * d ? on_lower : on_upper).push_back(s);
+    return std::make_pair(coverage_gap(lower, on_lower), coverage_gap(upper, on_upper));
+  };
+  const auto ellipsoid = gaps(Criterion::Ellipsoid);
+  EXPECT_LT(ellipsoid.first, 1.1 * d);
+  EXPECT_LT(ellipsoid.second, 1.1 * d);
+  const auto sphere = gaps(Criterion::Sphere);
+  EXPECT_GT(std::max(sphere.first, sphere.second), 1.3 * d);
+  const auto plane = gaps(Criterion::Plane);
+  EXPECT_GT(std::max(plane.first, plane.second), 1.3 * d);
+}
+
+TEST(PoissonSampling, SmallComponentsGetADisk) {
+  FrameMesh mesh = test::flat_grid(30, 1.0);
+  test::append(mesh, test::uv_sphere(6, 8, 0.02, Vec3(0.5, 0.5, 0.03)));  // a droplet just above
+  const SurfaceIndex surface(mesh);
+  ASSERT_EQ(surface.num_components(), 2);
+  const PoissonParams params{0.2, 0.05, 0.5, Criterion::Sphere};  // the sphere criterion would miss it
+  const auto disks = fill_gaps({}, surface_candidates(surface, 0.2, 1), surface, params, 1e-4);
+  int on_droplet = 0;
+  for (const auto& s : disks) on_droplet += surface.face_component()[s.point.face] == 1;
+  EXPECT_GE(on_droplet, 1);
+}
+
+TEST(PoissonSampling, KillDistanceFlagsTheYoungerDisk) {
+  const PoissonParams params{0.2, 0.05, 0.5, Criterion::Ellipsoid};
+  auto at = [](double x) {
+    SurfaceSample s;
+    s.point.position = Vec3(x, 0, 0);
+    s.normal = Vec3::UnitZ();
+    return s;
+  };
+  // Kill distance (1 − 0.25)·0.2 = 0.15.
+  const auto flags = flag_too_close({at(0.0), at(0.1), at(0.26), at(0.5)}, params, 0.25);
+  EXPECT_EQ(flags, (std::vector<bool>{false, true, false, false}));
+  EXPECT_EQ(flag_too_close({at(0.0), at(0.16)}, params, 0.25), (std::vector<bool>{false, false}));
+}
+
+// --- Tracker ---------------------------------------------------------------------
+
+std::shared_ptr<FrameMesh> rotating_grid(double omega) {
+  return std::make_shared<FrameMesh>(test::flat_grid(
+      40, 1.0, 0.0, -0.5, -0.5, [omega](const Vec3& p) { return Vec3(-omega * p.y(), omega * p.x(), 0); }));
+}
+
+TrackerSettings small_settings() {
+  TrackerSettings s;
+  s.method.radius = 0.12;
+  s.method.fade_frames = 8;
+  s.seed = 5;
+  return s;
+}
+
+TEST(Tracker, ZeroVelocityKeepsTheFirstDistribution) {
+  Tracker t(small_settings());
+  const StepReport first = t.step(rotating_grid(0.0), 1, 1.0 / 24);
+  EXPECT_GT(first.created, 10);
+  EXPECT_EQ(first.counts.active, first.created);
+  for (int f = 2; f <= 5; ++f) {
+    const StepReport r = t.step(rotating_grid(0.0), f, 1.0 / 24);
+    EXPECT_EQ(r.created, 0);
+    EXPECT_EQ(r.removed, 0);
+    EXPECT_EQ(r.counts.active, first.created);
+  }
+  for (const Patch& p : t.patches()) {
+    EXPECT_NEAR(p.max_distortion, 1.0, 1e-6);
+    EXPECT_EQ(p.kt, 1.0);
+  }
+}
+
+TEST(Tracker, ConstantVelocityTranslatesPatchesExactly) {
+  // A large plane translating: patch vertices move by exactly v·dt.
+  const Vec3 v(0.3, -0.12, 0);
+  auto plane = [&]() {
+    return std::make_shared<FrameMesh>(test::flat_grid(30, 3.0, 0.0, -1.5, -1.5, [&](const Vec3&) { return v; }));
+  };
+  TrackerSettings s = small_settings();
+  s.method.radius = 0.3;
+  Tracker t(s);
+  t.step(plane(), 1, 0.1);
+  const Patch before = t.patches().front();
+  t.step(plane(), 2, 0.1);
+  const Patch& after = t.patches().front();
+  ASSERT_EQ(after.id, before.id);
+  EXPECT_NEAR((after.center.point.position - before.center.point.position - 0.1 * v).norm(), 0.0, 1e-12);
+  ASSERT_EQ(after.num_vertices(), before.num_vertices());
+  for (std::size_t i = 0; i < after.num_vertices(); ++i) {
+    EXPECT_NEAR((after.positions[i] - before.positions[i] - 0.1 * v).norm(), 0.0, 1e-12);
+  }
+  EXPECT_NEAR(after.max_distortion, 1.0, 1e-9);
+}
+
+TEST(Tracker, RotationGoesThroughTheStates) {
+  Tracker t(small_settings());
+  bool saw_fading_in = false, saw_close = false, saw_distorted = false;
+  int removed = 0;
+  for (int f = 1; f <= 40; ++f) {
+    const StepReport r = t.step(rotating_grid(1.5), f, 1.0 / 24);
+    saw_fading_in |= r.counts.fading_in > 0;
+    saw_close |= r.counts.fading_out_close > 0;
+    saw_distorted |= r.counts.fading_out_distorted > 0;
+    removed += r.removed;
+    for (const Patch& p : t.patches()) {
+      EXPECT_GE(p.kt, 0.0);
+      EXPECT_LE(p.kt, 1.0);
+      if (p.state == DiskState::Active) EXPECT_EQ(p.kt, 1.0);
+    }
+  }
+  EXPECT_TRUE(saw_fading_in);
+  EXPECT_TRUE(saw_close || saw_distorted);
+  EXPECT_GT(removed, 0);
+}
+
+TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
+  // The rotation keeps its patches; the drop, through its contact (frame ~6
+  // of 12), replaces some: patches fade in, fade out and are removed, and
+  // K_t follows Eq. 6.
+  SceneOptions so;
+  so.resolution = 20;
+  so.frames = 12;
+  for (const char* scene : {"rotation", "drop"}) {
+    SCOPED_TRACE(scene);
+    Tracker t(TrackerSettings{});
+    int created_later = 0, removed = 0, fading_out = 0;
+    for (int f = 1; f <= so.frames; ++f) {
+      const StepReport r = t.step(std::make_shared<FrameMesh>(make_scene_frame(scene, f, so)), f, 1.0 / so.fps);
+      if (f > 1) created_later += r.created;
+      removed += r.removed;
+      fading_out += r.counts.fading_out_distorted + r.counts.fading_out_close;
+      for (const Patch& p : t.patches()) {
+        ASSERT_GE(p.kt, 0.0);
+        ASSERT_LE(p.kt, 1.0);
+        if (p.state == DiskState::Active) ASSERT_EQ(p.kt, 1.0);
+        if (p.state == DiskState::FadingIn) ASSERT_LT(p.kt, 1.0);
+      }
+      const PatchCoverage coverage(t.patches(), t.settings().method.max_projection);
+      EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage), 1e-3) << "frame " << f;
+    }
+    if (std::string(scene) == "rotation") {
+      EXPECT_EQ(removed, 0);
+    } else {
+      EXPECT_GT(created_later, 0);
+      EXPECT_GT(fading_out, 0);
+      EXPECT_GT(removed, 0);
+    }
+  }
+}
+
+std::string run_and_save(int threads, const std::string& path) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  Tracker t(small_settings());
+  for (int f = 1; f <= 12; ++f) t.step(rotating_grid(1.5), f, 1.0 / 24);
+  t.save(path);
+  return test::read_file(path);
+}
+
+TEST(Tracker, IdenticalForAnyThreadCount) {
+  test::TempDir dir;
+  const std::string one = run_and_save(1, dir.file("a.bin"));
+  const std::string two = run_and_save(2, dir.file("b.bin"));
+  EXPECT_GT(one.size(), 1000u);
+  EXPECT_TRUE(one == two);
+}
+
+TEST(Tracker, StateRoundTripContinuesExactly) {
+  test::TempDir dir;
+  Tracker a(small_settings());
+  std::shared_ptr<FrameMesh> mesh;
+  for (int f = 1; f <= 6; ++f) a.step(mesh = rotating_grid(1.5), f, 1.0 / 24);
+  a.save(dir.file("s6.bin"));
+  Tracker b = Tracker::load(dir.file("s6.bin"), rotating_grid(1.5));
+  b.save(dir.file("s6b.bin"));
+  EXPECT_EQ(test::read_file(dir.file("s6.bin")), test::read_file(dir.file("s6b.bin")));
+  EXPECT_EQ(b.frame(), 6);
+  for (int f = 7; f <= 9; ++f) {
+    a.step(rotating_grid(1.5), f, 1.0 / 24);
+    b.step(rotating_grid(1.5), f, 1.0 / 24);
+  }
+  a.save(dir.file("a9.bin"));
+  b.save(dir.file("b9.bin"));
+  EXPECT_EQ(test::read_file(dir.file("a9.bin")), test::read_file(dir.file("b9.bin")));
+}
+
+TEST(Tracker, StateFileErrors) {
+  test::TempDir dir;
+  Tracker a(small_settings());
+  a.step(rotating_grid(1.0), 1, 1.0 / 24);
+  a.save(dir.file("s.bin"));
+  EXPECT_THROW(Tracker::load(dir.file("s.bin"), rotating_grid(2.0)), InputError);  // other velocities
+  const std::string bytes = test::read_file(dir.file("s.bin"));
+  test::write_file(dir.path() / "t.bin", bytes.substr(0, bytes.size() / 2));
+  EXPECT_THROW(Tracker::load(dir.file("t.bin"), rotating_grid(1.0)), InputError);
+  test::write_file(dir.path() / "u.bin", "hello");
+  EXPECT_THROW(Tracker::load(dir.file("u.bin"), rotating_grid(1.0)), InputError);
+  EXPECT_THROW(Tracker::load(dir.file("missing.bin"), rotating_grid(1.0)), InputError);
+}
+
+TEST(PatchCoverage, AgreesWithTheExactLocator) {
+  // The cheap coverage test must give the locator's answer (some hit with
+  // w > 0) everywhere, including near patch rims and fading patches.
+  SceneOptions so;
+  so.resolution = 20;
+  so.frames = 12;
+  Tracker t(TrackerSettings{});
+  for (int f = 1; f <= 8; ++f) t.step(std::make_shared<FrameMesh>(make_scene_frame("drop", f, so)), f, 1.0 / so.fps);
+  const double tol = t.settings().method.max_projection;
+  // Every other patch only, so that some points are bare.
+  std::vector<char> half(t.patches().size(), 0);
+  for (std::size_t i = 0; i < half.size(); i += 2) half[i] = 1;
+  const PatchLocator locator(t.patches(), tol, &half);
+  const PatchCoverage coverage(t.patches(), tol, &half);
+  const SurfaceIndex& surface = *t.surface();
+  std::vector<PatchHit> hits;
+  int covered = 0, bare = 0;
+  for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {
+    for (const Vec3& b : {Vec3(Vec3::Constant(1.0 / 3.0)), Vec3(0.8, 0.1, 0.1), Vec3(0.05, 0.05, 0.9), Vec3(0.5, 0.5, 0.0)}) {
+      const SurfacePoint s = surface.at(static_cast<int>(f), b);
+      const Vec3 n = surface.normal_at(s);
+      locator.locate(s.position, n, hits);
+      const bool expected = std::any_of(hits.begin(), hits.end(), [](const PatchHit& h) { return h.weight > 0.0; });
+      ASSERT_EQ(coverage.covers(s.position, n), expected) << "face " << f;
+      (expected ? covered : bare)++;
+    }
+  }
+  EXPECT_GT(covered, 1000);
+  EXPECT_GT(bare, 100);
+  // With no patch nothing is covered.
+  const std::vector<Patch> none;
+  EXPECT_FALSE(PatchCoverage(none, tol).covers(Vec3::Zero(), Vec3::UnitZ()));
+}
+
+}  // namespace
+}  // namespace fluidtex
