@@ -1,0 +1,43 @@
+# Layout.IncludesFollowThePipeline (cmake -DSOURCE_DIR=... -P check_layers.cmake):
+# every file of include/fluidtex/<s>/ and src/<s>/ includes library headers
+# only from the subsystems <s> may use, so that the folders show the pipeline
+#   util -> geometry -> io -> tracking -> texture -> job -> inspect
+# with scenes beside tracking (on top of io).
+cmake_minimum_required(VERSION 3.22)
+set(uses_util util)
+set(uses_geometry util geometry)
+set(uses_io util geometry io)
+set(uses_scenes util geometry io scenes)
+set(uses_tracking util geometry io tracking)
+set(uses_texture util geometry io tracking texture)
+set(uses_job util geometry io tracking texture job)
+set(uses_inspect util geometry io tracking texture job inspect)
+
+file(GLOB_RECURSE files RELATIVE "${SOURCE_DIR}" "${SOURCE_DIR}/include/*.h" "${SOURCE_DIR}/src/*.h"
+     "${SOURCE_DIR}/src/*.cpp")
+set(checked 0)
+foreach(file IN LISTS files)
+  if(NOT file MATCHES "^(include/fluidtex|src)/([a-z]+)/[a-z_]+\\.(h|cpp)$")
+    message(SEND_ERROR "${file}: not in a subsystem folder")
+    continue()
+  endif()
+  set(subsystem "${CMAKE_MATCH_2}")
+  if(NOT DEFINED uses_${subsystem})
+    message(SEND_ERROR "${file}: unknown subsystem '${subsystem}'")
+    continue()
+  endif()
+  file(STRINGS "${SOURCE_DIR}/${file}" includes REGEX "^#include \"fluidtex/")
+  foreach(line IN LISTS includes)
+    if(NOT line MATCHES "^#include \"fluidtex/([a-z]+)/[a-z_]+\\.h\"")
+      message(SEND_ERROR "${file}: '${line}' names no subsystem")
+    elseif(NOT CMAKE_MATCH_1 IN_LIST uses_${subsystem})
+      message(SEND_ERROR "${file}: '${line}': ${subsystem} may include only ${uses_${subsystem}}")
+    endif()
+    math(EXPR checked "${checked} + 1")
+  endforeach()
+endforeach()
+list(LENGTH files count)
+if(count LESS 60 OR checked LESS 100)
+  message(SEND_ERROR "only ${count} files and ${checked} includes found under ${SOURCE_DIR}: wrong folder?")
+endif()
+message(STATUS "${count} files, ${checked} library includes checked")
