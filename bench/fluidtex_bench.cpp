@@ -15,9 +15,9 @@
 
 #include <oneapi/tbb/global_control.h>
 
-#include "fluidtex/texture/atlas.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
+#include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/tracker.h"
 
@@ -28,12 +28,12 @@ namespace {
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 struct Case {
-  const char* name;    // as in the paper's Table 2
-  const char* scene;   // generator
-  int resolution;      // → polygon count
-  double radius;       // d (0 = default), chosen for the paper's patch count
-  int atlas;           // atlas size
-  const char* paper;   // the paper's numbers (20 Xeon cores)
+  const char* name;   // as in the paper's Table 2
+  const char* scene;  // generator
+  int resolution;     // → polygon count
+  double radius;      // d (0 = default), chosen for the paper's patch count
+  int atlas;          // atlas size
+  const char* paper;  // the paper's numbers (20 Xeon cores)
 };
 
 double peak_rss_mb() {
@@ -85,13 +85,12 @@ void run_case(const Case& c, int warmup, bool exact, int threads) {
     std::snprintf(buf, sizeof buf, "%s%s %.3f", stages.empty() ? "" : ", ", stage.c_str(), secs);
     stages += buf;
   }
-  std::printf("| %s | %d | %zu | %d | %d² | %.3f | %.3f | %.3f | %s | %.3f | %s | %.0f | %s |\n", c.name, threads,
-              tracker.mesh()->num_faces(), last.counts.total(), c.atlas, track_seconds, atlas_seconds,
-              raster_seconds, exact ? std::to_string(exact_seconds).substr(0, 6).c_str() : "–",
-              track_seconds + atlas_seconds + raster_seconds,
-              exact && raster_seconds > 0 ? (std::to_string(exact_seconds / raster_seconds).substr(0, 5) + "×").c_str()
-                                          : "–",
-              peak_rss_mb(), stages.c_str());
+  std::printf(
+      "| %s | %d | %zu | %d | %d² | %.3f | %.3f | %.3f | %s | %.3f | %s | %.0f | %s |\n", c.name, threads,
+      tracker.mesh()->num_faces(), last.counts.total(), c.atlas, track_seconds, atlas_seconds, raster_seconds,
+      exact ? std::to_string(exact_seconds).substr(0, 6).c_str() : "–", track_seconds + atlas_seconds + raster_seconds,
+      exact && raster_seconds > 0 ? (std::to_string(exact_seconds / raster_seconds).substr(0, 5) + "×").c_str() : "–",
+      peak_rss_mb(), stages.c_str());
   std::printf("<!-- %s: paper %s; uncovered %.2e, packing %.2f -->\n", c.name, c.paper, raster.uncovered_fraction(),
               atlas.packing_efficiency);
   std::fflush(stdout);
@@ -104,10 +103,14 @@ int main(int argc, char** argv) {
   std::string only;
   std::vector<int> thread_counts = {1, 2};
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick")) quick = true;
-    else if (!std::strcmp(argv[i], "--no-exact")) exact = false;
-    else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) only = argv[++i];
-    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc && std::atoi(argv[i + 1]) > 0) thread_counts = {std::atoi(argv[++i])};
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--no-exact"))
+      exact = false;
+    else if (!std::strcmp(argv[i], "--case") && i + 1 < argc)
+      only = argv[++i];
+    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc && std::atoi(argv[i + 1]) > 0)
+      thread_counts = {std::atoi(argv[++i])};
     else {
       std::fprintf(stderr, "usage: fluidtex_bench [--quick] [--no-exact] [--case split|dambreak|drop] [--threads N]\n");
       return 2;
@@ -119,12 +122,14 @@ int main(int argc, char** argv) {
       {"dambreak", "rotation", 68, 0.0171, 6144, "7k poly, 6900 patches, 6k² atlas: 90 s"},
       {"drop", "drop", 100, 0.0, 2048, "50k poly (the paper's Lava: 5700 patches, 6k² atlas: 186 s)"},
   };
-  std::printf("| case | threads | polygons | patches | atlas | track s | atlas s | raster s | exact s | total s "
-              "(raster) | exact/raster | peak MB | tracking stages (s) |\n");
+  std::printf(
+      "| case | threads | polygons | patches | atlas | track s | atlas s | raster s | exact s | total s "
+      "(raster) | exact/raster | peak MB | tracking stages (s) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
     if (!only.empty() && only != c.name) continue;
-    for (int threads : thread_counts) run_case(c, quick ? 3 : 8, exact && !(std::string(c.name) == "dambreak"), threads);
+    for (int threads : thread_counts)
+      run_case(c, quick ? 3 : 8, exact && !(std::string(c.name) == "dambreak"), threads);
   }
   return 0;
 }

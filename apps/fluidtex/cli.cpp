@@ -15,17 +15,17 @@
 
 #include <oneapi/tbb/global_control.h>
 
-#include "fluidtex/util/error.h"
 #include "fluidtex/inspect/eval.h"
-#include "fluidtex/scenes/exemplar_gen.h"
-#include "fluidtex/io/image_io.h"
 #include "fluidtex/inspect/info.h"
 #include "fluidtex/inspect/overlays.h"
-#include "fluidtex/job/pipeline.h"
 #include "fluidtex/inspect/render.h"
-#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/error.h"
 
 namespace fluidtex::cli {
 
@@ -62,8 +62,8 @@ class TerminalReporter : public Reporter {
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double eta = done > 0 ? elapsed / static_cast<double>(done) * static_cast<double>(total - done) : 0.0;
     char line[160];
-    std::snprintf(line, sizeof line, "\r\033[Kframe %zu/%zu  %-10s elapsed %s  ETA %s", done, total,
-                  stage.c_str(), clock_text(elapsed).c_str(), done > 0 ? clock_text(eta).c_str() : "--:--");
+    std::snprintf(line, sizeof line, "\r\033[Kframe %zu/%zu  %-10s elapsed %s  ETA %s", done, total, stage.c_str(),
+                  clock_text(elapsed).c_str(), done > 0 ? clock_text(eta).c_str() : "--:--");
     std::fputs(line, stderr);
     std::fflush(stderr);
     line_shown_ = true;
@@ -73,8 +73,10 @@ class TerminalReporter : public Reporter {
   static std::string clock_text(double seconds) {
     const long s = static_cast<long>(seconds + 0.5);
     char buf[32];
-    if (s >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
-    else std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
+    if (s >= 3600)
+      std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    else
+      std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
     return buf;
   }
   void clear_line() {
@@ -171,8 +173,9 @@ void apply_config(CLI::App* cmd, const std::string& path) {
 void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
   // CLI11 2.1 does not read a subcommand's own config file before its
   // callback, so --config is applied by hand (apply_config).
-  run->add_option("--config", args->config, "Read options from a TOML file (see --print-config); "
-                                            "options given on the command line win")
+  run->add_option("--config", args->config,
+                  "Read options from a TOML file (see --print-config); "
+                  "options given on the command line win")
       ->configurable(false);
   add_input_options(run, args->job.input);
   run->add_option("-o,--output", args->job.output.dir, "Output folder")->required();
@@ -212,12 +215,13 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
                 "Poisson update without the coverage test: a candidate rejected by a disk is never seeded, "
                 "even where no patch covers the surface (the paper's plain dart throwing)")
       ->group("Method (Tables 3, 4)");
-  run->add_option("--fading", args->fading, "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its radius), density (Eq. 6, paper) or linear (Eq. 5)")
+  run->add_option("--fading", args->fading,
+                  "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its radius), "
+                  "density (Eq. 6, paper) or linear (Eq. 5)")
       ->check(CLI::IsMember({"flow", "density", "linear"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
-  run->add_option("--advection", args->advection,
-                  "Patch advection: heun (second order) or euler (x + v dt)")
+  run->add_option("--advection", args->advection, "Patch advection: heun (second order) or euler (x + v dt)")
       ->check(CLI::IsMember({"heun", "euler"}))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
@@ -234,8 +238,12 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   SynthesisJobOptions& so = args->job.synthesis;
-  run->add_option("--atlas-size", so.atlas.size, "Atlas width and height in texels")->capture_default_str()->group("Synthesis");
-  run->add_option("--gutter", so.atlas.gutter, "Texels between charts, filled by dilation")->capture_default_str()->group("Synthesis");
+  run->add_option("--atlas-size", so.atlas.size, "Atlas width and height in texels")
+      ->capture_default_str()
+      ->group("Synthesis");
+  run->add_option("--gutter", so.atlas.gutter, "Texels between charts, filled by dilation")
+      ->capture_default_str()
+      ->group("Synthesis");
   run->add_option("--blend", args->blend,
                   "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)")
       ->check(CLI::IsMember({"contrast", "linear"}))
@@ -249,8 +257,8 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
   run->add_option("--aov", so.aov, "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch")
       ->delimiter(',')
       ->group("Synthesis");
-  run->add_flag("--displacement", so.displacement,
-                "Write a one-channel height atlas (the exemplar is turned to grey)")->group("Synthesis");
+  run->add_flag("--displacement", so.displacement, "Write a one-channel height atlas (the exemplar is turned to grey)")
+      ->group("Synthesis");
   run->add_flag("--float", args->float_output, "32-bit float EXR/TIFF instead of half / 16-bit")->group("Synthesis");
   run->add_flag("--track-only", so.track_only, "Track patches only: state files and stats, no atlas or mesh")
       ->group("Synthesis");
@@ -307,8 +315,8 @@ void add_run(CLI::App& app, int& exit_code) {
     TerminalReporter reporter(args->verbosity, args->quiet);
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);
-    reporter.info("fluidtex: " + std::to_string(summary.frames) + " frames in " +
-                  std::to_string(summary.seconds) + " s");
+    reporter.info("fluidtex: " + std::to_string(summary.frames) + " frames in " + std::to_string(summary.seconds) +
+                  " s");
     exit_code = 0;
   });
 }
@@ -421,11 +429,12 @@ void add_preview(CLI::App& app, int& exit_code) {
                       "follow the framing)");
   preview->add_option("--mesh", args->mesh, "UV mesh pattern (default: RUN/mesh.####.obj)");
   preview->add_option("--atlas", args->atlas, "Atlas pattern (default: RUN/atlas.####.exr)");
-  preview->add_option("--overlay", args->overlays,
-                      "Draw over the frames (comma list, any of): borders = patch boundary edges, one colour per "
-                      "patch; states = disk centres by state: blue fading in, green active, red fading out "
-                      "(too distorted), yellow fading out (too close); velocity = vertex velocity arrows. "
-                      "Needs -i (and RUN/state/ for borders and states)")
+  preview
+      ->add_option("--overlay", args->overlays,
+                   "Draw over the frames (comma list, any of): borders = patch boundary edges, one colour per "
+                   "patch; states = disk centres by state: blue fading in, green active, red fading out "
+                   "(too distorted), yellow fading out (too close); velocity = vertex velocity arrows. "
+                   "Needs -i (and RUN/state/ for borders and states)")
       ->delimiter(',')
       ->check(CLI::IsMember({"borders", "states", "velocity"}))
       ->group("Overlays");
@@ -433,8 +442,8 @@ void add_preview(CLI::App& app, int& exit_code) {
   for (const char* name : {"-i", "--fps", "--velocity-attr", "--velocity-from-positions", "--strict"}) {
     preview->get_option(name)->group("Overlays");
   }
-  preview->add_option("--velocity-scale", args->velocity_scale,
-                      "Velocity arrows are v * dt * K long (K frames of motion)")
+  preview
+      ->add_option("--velocity-scale", args->velocity_scale, "Velocity arrows are v * dt * K long (K frames of motion)")
       ->capture_default_str()
       ->group("Overlays");
   preview->add_option("--arrow-spacing", args->arrow_spacing, "Pixels between velocity arrows")
@@ -486,7 +495,8 @@ void add_preview(CLI::App& app, int& exit_code) {
         const auto& found = sequence->frames();
         const auto it = std::find(found.begin(), found.end(), f);
         if (it == found.end()) throw InputError(sequence->path_of(f), "input frame not found (needed by --overlay)");
-        auto frame_mesh = std::make_shared<const FrameMesh>(sequence->load(static_cast<std::size_t>(it - found.begin())));
+        auto frame_mesh =
+            std::make_shared<const FrameMesh>(sequence->load(static_cast<std::size_t>(it - found.begin())));
         Canvas canvas{r.color, r.gbuffer, r.camera, default_depth_bias(frame_mesh->positions)};
         if (borders || states) {
           const Tracker tracker = Tracker::load(state_path(args->dir, f), frame_mesh);
@@ -520,9 +530,10 @@ void add_eval(CLI::App& app, int& exit_code) {
     int threads = 0;
   };
   auto args = std::make_shared<EvalArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "eval", "Measure a finished run: coverage, ghosting, patch life, distortion, texture-flow agreement, "
-              "contrast, spectrum (OUT/eval/metrics.jsonl, summary.json, report.html)");
+  CLI::App* cmd =
+      app.add_subcommand("eval",
+                         "Measure a finished run: coverage, ghosting, patch life, distortion, texture-flow agreement, "
+                         "contrast, spectrum (OUT/eval/metrics.jsonl, summary.json, report.html)");
   cmd->add_option("-i,--input", args->eval.input.pattern, "The input sequence the run used")->required();
   cmd->add_option("-o,--output", args->eval.run_dir, "The run's output folder (with job.toml)")->required();
   cmd->add_option("--frames", args->eval.input.frames, "Frames to evaluate (default: the run's)");
@@ -531,8 +542,8 @@ void add_eval(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(100, 10000000))
       ->capture_default_str();
   cmd->add_option("--seed", args->eval.seed, "Seed of the sample points")->capture_default_str();
-  cmd->add_option("--flow-width", args->eval.flow_width,
-                  "Render width for the optical-flow metric (0: skip it)")->capture_default_str();
+  cmd->add_option("--flow-width", args->eval.flow_width, "Render width for the optical-flow metric (0: skip it)")
+      ->capture_default_str();
   cmd->add_option("--images", args->eval.report_images, "Preview images in the report")->capture_default_str();
   cmd->add_option("--view", args->view, "Orthographic view of the renders: top, front, side")
       ->check(CLI::IsMember({"top", "front", "side"}))

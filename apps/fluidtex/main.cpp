@@ -12,9 +12,10 @@
 int main(int argc, char** argv) {
   std::setlocale(LC_ALL, "C");
   std::locale::global(std::locale::classic());
-  CLI::App app{"fluidtex: temporally coherent texture synthesis on the free surface of fluids\n"
-               "(deformable patches, Gagnon et al. 2019)",
-               "fluidtex"};
+  CLI::App app{
+      "fluidtex: temporally coherent texture synthesis on the free surface of fluids\n"
+      "(deformable patches, Gagnon et al. 2019)",
+      "fluidtex"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fluidtex 0.1.0");
   int exit_code = 0;

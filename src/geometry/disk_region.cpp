@@ -60,9 +60,12 @@ std::vector<int> grow_disk_region(const SurfaceIndex& surface, int seed, const D
       const int a = t[k], b = t[(k + 1) % 3];
       const auto it = edge_faces.find(edge_key(a, b));
       if (it == edge_faces.end()) continue;
-      if (it->second >= 2) ok = false;                      // edge already interior: non-manifold
-      else if (edge_from[edge_key(a, b)] == a) ok = false;  // same direction: inconsistent orientation
-      else ++boundary;
+      if (it->second >= 2)
+        ok = false;  // edge already interior: non-manifold
+      else if (edge_from[edge_key(a, b)] == a)
+        ok = false;  // same direction: inconsistent orientation
+      else
+        ++boundary;
     }
     if (!ok) {
       rejected.insert(f);

@@ -71,11 +71,13 @@ bool flatten_lscm(const DiskMesh& mesh, std::vector<Vec2>& uvs, std::string* fai
 
   double area3 = 0.0, area_uv = 0.0;
   for (const Tri& t : mesh.triangles) {
-    area3 += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    area3 +=
+        0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
     const Vec2 e1 = uvs[t[1]] - uvs[t[0]], e2 = uvs[t[2]] - uvs[t[0]];
     area_uv += 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
   }
-  if (!(std::abs(area_uv) > 0.0) || !(area3 > 0.0) || !std::isfinite(area_uv)) return fail("degenerate parameterisation");
+  if (!(std::abs(area_uv) > 0.0) || !(area3 > 0.0) || !std::isfinite(area_uv))
+    return fail("degenerate parameterisation");
   const double scale = std::sqrt(area3 / std::abs(area_uv));
   const double mirror = area_uv < 0.0 ? -1.0 : 1.0;
   for (Vec2& uv : uvs) uv = Vec2(mirror * uv.x(), uv.y()) * scale;
@@ -86,9 +88,9 @@ bool remesh_disk(DiskMesh& mesh, double edge_length, int iterations) {
   SM sm;
   if (!to_surface_mesh(mesh, sm)) return false;
   namespace PMP = CGAL::Polygon_mesh_processing;
-  PMP::isotropic_remeshing(sm.faces(), edge_length, sm,
-                           CGAL::parameters::number_of_iterations(static_cast<unsigned>(iterations))
-                               .collapse_constraints(false));
+  PMP::isotropic_remeshing(
+      sm.faces(), edge_length, sm,
+      CGAL::parameters::number_of_iterations(static_cast<unsigned>(iterations)).collapse_constraints(false));
   sm.collect_garbage();
   DiskMesh out;
   std::unordered_map<std::uint32_t, int> index;

@@ -106,8 +106,7 @@ SurfacePoint SurfaceIndex::at(int face, const Vec3& bary) const {
   s.face = face;
   s.bary = bary;
   const Tri& t = mesh_->triangles[face];
-  s.position = bary[0] * mesh_->positions[t[0]] + bary[1] * mesh_->positions[t[1]] +
-               bary[2] * mesh_->positions[t[2]];
+  s.position = bary[0] * mesh_->positions[t[0]] + bary[1] * mesh_->positions[t[1]] + bary[2] * mesh_->positions[t[2]];
   return s;
 }
 
@@ -161,8 +160,8 @@ bool SurfaceIndex::on_boundary(const SurfacePoint& s, double tolerance) const {
 
 Vec3 SurfaceIndex::normal_at(const SurfacePoint& s) const {
   const Tri& t = mesh_->triangles[s.face];
-  const Vec3 n = s.bary[0] * vertex_normals_[t[0]] + s.bary[1] * vertex_normals_[t[1]] +
-                 s.bary[2] * vertex_normals_[t[2]];
+  const Vec3 n =
+      s.bary[0] * vertex_normals_[t[0]] + s.bary[1] * vertex_normals_[t[1]] + s.bary[2] * vertex_normals_[t[2]];
   const double len = n.norm();
   return len > 1e-12 ? Vec3(n / len) : face_normals_[s.face];
 }

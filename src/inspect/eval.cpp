@@ -21,17 +21,17 @@
 #include <opencv2/video/tracking.hpp>
 #include <unsupported/Eigen/FFT>
 
-#include "fluidtex/util/atomic_file.h"
 #include "fluidtex/geometry/distortion.h"
-#include "fluidtex/util/error.h"
+#include "fluidtex/geometry/surface.h"
 #include "fluidtex/io/frame_pattern.h"
-#include "fluidtex/tracking/patch_locator.h"
-#include "fluidtex/util/random.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
-#include "fluidtex/geometry/surface.h"
 #include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/util/random.h"
 
 namespace fluidtex {
 
@@ -44,9 +44,12 @@ std::vector<char> chart_mask(const UVMesh& mesh, int size) {
     const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[2] - p[0]).x() * (p[1] - p[0]).y();
     if (area == 0.0) continue;
     for (int y = std::max(0, static_cast<int>(lo.y() - 0.5)); y <= std::min(size - 1, static_cast<int>(hi.y())); ++y) {
-      for (int x = std::max(0, static_cast<int>(lo.x() - 0.5)); x <= std::min(size - 1, static_cast<int>(hi.x())); ++x) {
+      for (int x = std::max(0, static_cast<int>(lo.x() - 0.5)); x <= std::min(size - 1, static_cast<int>(hi.x()));
+           ++x) {
         const Vec2 q(x + 0.5, y + 0.5);
-        auto edge = [&](const Vec2& a, const Vec2& b) { return ((b - a).x() * (q - a).y() - (q - a).x() * (b - a).y()) / area; };
+        auto edge = [&](const Vec2& a, const Vec2& b) {
+          return ((b - a).x() * (q - a).y() - (q - a).x() * (b - a).y()) / area;
+        };
         if (edge(p[0], p[1]) >= -1e-9 && edge(p[1], p[2]) >= -1e-9 && edge(p[2], p[0]) >= -1e-9) {
           mask[static_cast<std::size_t>(y) * size + x] = 1;
         }
@@ -89,7 +92,8 @@ double luminance(const Image& image, std::size_t i) {
 
 std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int n) {
   if (n < 8 || (n & (n - 1)) != 0) throw InternalError("radial_log_spectrum: n must be a power of two >= 8");
-  if (x0 < 0 || y0 < 0 || x0 + n > image.width || y0 + n > image.height) throw InternalError("radial_log_spectrum: crop outside the image");
+  if (x0 < 0 || y0 < 0 || x0 + n > image.width || y0 + n > image.height)
+    throw InternalError("radial_log_spectrum: crop outside the image");
   // Luminance, mean removed, Hann window.
   std::vector<double> window(n);
   for (int i = 0; i < n; ++i) window[i] = 0.5 - 0.5 * std::cos(2.0 * M_PI * (i + 0.5) / n);
@@ -97,7 +101,8 @@ std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int 
   double mean = 0.0;
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
-      lum[static_cast<std::size_t>(y) * n + x] = luminance(image, static_cast<std::size_t>(y0 + y) * image.width + (x0 + x));
+      lum[static_cast<std::size_t>(y) * n + x] =
+          luminance(image, static_cast<std::size_t>(y0 + y) * image.width + (x0 + x));
       mean += lum[static_cast<std::size_t>(y) * n + x];
     }
   }
@@ -151,7 +156,8 @@ Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
       exemplar.sample((x0 + (x + 0.5) * scale) / w, 1.0 - (y0 + (y + 0.5) * scale) / h, px);  // v up, rows down
-      for (int c = 0; c < out.channels; ++c) out.pixels[(static_cast<std::size_t>(y) * n + x) * out.channels + c] = px[c];
+      for (int c = 0; c < out.channels; ++c)
+        out.pixels[(static_cast<std::size_t>(y) * n + x) * out.channels + c] = px[c];
     }
   }
   return out;
@@ -180,11 +186,13 @@ void TexturedFrame::color_at(const Vec3& p, float* out) const {
 namespace {
 
 /// Area-weighted random points of `mesh` (face, barycentrics), fixed seed.
-std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int count, std::uint64_t seed, std::uint64_t salt) {
+std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int count, std::uint64_t seed,
+                                                  std::uint64_t salt) {
   std::vector<double> cumulative;
   double total = 0.0;
   for (const Tri& t : mesh.triangles) {
-    total += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    total +=
+        0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
     cumulative.push_back(total);
   }
   std::vector<std::pair<int, Vec3>> out;
@@ -327,7 +335,8 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
     }
   }
   std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='11'>";
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
+    << "' font-family='sans-serif' font-size='11'>";
   s << "<text x='" << L << "' y='14' font-weight='bold'>" << title << "</text>";
   if (!(x1 >= x0) || !(y1 > -1e300)) return s.str() + "<text x='60' y='100'>not measured</text></svg>";
   if (x1 == x0) x1 = x0 + 1;
@@ -352,7 +361,8 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
     }
     const char* colour = colours[k % 7];
     s << "<path d='" << path << "' fill='none' stroke='" << colour << "' stroke-width='1.5'/>";
-    s << "<text x='" << W - R + 8 << "' y='" << T + 12 + 14 * k << "' fill='" << colour << "'>" << labels[k] << "</text>";
+    s << "<text x='" << W - R + 8 << "' y='" << T + 12 + 14 * k << "' fill='" << colour << "'>" << labels[k]
+      << "</text>";
   }
   return s.str() + "</svg>";
 }
@@ -363,16 +373,17 @@ std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, in
   std::vector<std::uint32_t> sat(static_cast<std::size_t>(size + 1) * (size + 1), 0);  // summed-area table
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
-      sat[static_cast<std::size_t>(y + 1) * (size + 1) + x + 1] = mask[static_cast<std::size_t>(y) * size + x] +
-          sat[static_cast<std::size_t>(y) * (size + 1) + x + 1] + sat[static_cast<std::size_t>(y + 1) * (size + 1) + x] -
-          sat[static_cast<std::size_t>(y) * (size + 1) + x];
+      sat[static_cast<std::size_t>(y + 1) * (size + 1) + x + 1] =
+          mask[static_cast<std::size_t>(y) * size + x] + sat[static_cast<std::size_t>(y) * (size + 1) + x + 1] +
+          sat[static_cast<std::size_t>(y + 1) * (size + 1) + x] - sat[static_cast<std::size_t>(y) * (size + 1) + x];
     }
   }
   std::vector<std::pair<int, int>> all;
   for (int y = 0; y + n <= size; y += n / 2) {
     for (int x = 0; x + n <= size; x += n / 2) {
       auto S = [&](int xx, int yy) { return sat[static_cast<std::size_t>(yy) * (size + 1) + xx]; };
-      if (S(x + n, y + n) - S(x, y + n) - S(x + n, y) + S(x, y) == static_cast<std::uint32_t>(n * n)) all.emplace_back(x, y);
+      if (S(x + n, y + n) - S(x, y + n) - S(x + n, y) + S(x, y) == static_cast<std::uint32_t>(n * n))
+        all.emplace_back(x, y);
     }
   }
   if (static_cast<int>(all.size()) <= limit) return all;
@@ -405,8 +416,8 @@ std::string png_data_uri(const std::string& path) {
 /// texture moves) and compares their optical flow with the fluid velocity at
 /// t projected to the image, over pixels inside the surface in both renders
 /// (2 pixels away from its silhouette).
-FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
-                                const EvalOptions& options) {
+FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next,
+                                double dt, const EvalOptions& options) {
   std::vector<Vec3> both = at_t.mesh.positions;
   both.insert(both.end(), at_next.mesh.positions.begin(), at_next.mesh.positions.end());
   RenderOptions o = options.render;
@@ -433,7 +444,8 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
       if (!inside) continue;
       const Tri& t = at_t.mesh.triangles[a.gbuffer.face_at(x, y)];
       const Vec3& l = a.gbuffer.bary_at(x, y);
-      const Vec3 p = l[0] * at_t.mesh.positions[t[0]] + l[1] * at_t.mesh.positions[t[1]] + l[2] * at_t.mesh.positions[t[2]];
+      const Vec3 p =
+          l[0] * at_t.mesh.positions[t[0]] + l[1] * at_t.mesh.positions[t[1]] + l[2] * at_t.mesh.positions[t[2]];
       const SurfacePoint s = velocity.closest_point(p);
       if (!s.valid()) continue;
       const Vec2 d = a.camera.image_displacement(p, velocity.velocity_at(s) * dt);
@@ -456,8 +468,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     throw InputError(mesh_pattern, "eval reads the run's UV meshes as OBJ (run with the default --mesh)");
   }
   const Sequence sequence(options.input);
-  const Exemplar exemplar = load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar,
-                                          job.synthesis.displacement);
+  const Exemplar exemplar =
+      load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar, job.synthesis.displacement);
   const double dt = 1.0 / options.input.fps;
   const std::string dir = options.run_dir + "/eval";
   std::filesystem::create_directories(dir);
@@ -466,8 +478,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   // resolved on the first frame as the run did.
   std::optional<TrackingOptions> resolved;
   std::vector<Row> rows;
-  std::map<std::uint32_t, int> born;  // live patch id -> first frame seen
-  std::vector<double> lifetimes;      // frames lived by patches that died
+  std::map<std::uint32_t, int> born;                                         // live patch id -> first frame seen
+  std::vector<double> lifetimes;                                             // frames lived by patches that died
   std::array<std::array<int, kAgeBuckets>, kRetireCauses> retired_by_age{};  // rule x age at removal
   std::set<std::uint32_t> previous_ids;
   bool have_previous_state = false;
@@ -482,8 +494,10 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
     const std::string atlas_path = FramePattern(atlas_pattern).path(frame);
     const std::string mesh_path = FramePattern(mesh_pattern).path(frame);
-    if (!std::filesystem::exists(atlas_path)) throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
-    if (!std::filesystem::exists(mesh_path)) throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
+    if (!std::filesystem::exists(atlas_path))
+      throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
+    if (!std::filesystem::exists(mesh_path))
+      throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
     TexturedFrame current(read_uv_mesh_obj(mesh_path), read_image(atlas_path));
     Row row{{"frame", frame}};
 
@@ -516,8 +530,11 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       row.emplace_back("births", have_previous_state ? births : std::nan(""));
       row.emplace_back("deaths", have_previous_state ? deaths : std::nan(""));
       // Churn: births over live patches, and the share of patches active.
-      row.emplace_back("birth_rate", have_previous_state && !patches.empty() ? births / static_cast<double>(patches.size()) : std::nan(""));
-      row.emplace_back("active_share", patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
+      row.emplace_back("birth_rate", have_previous_state && !patches.empty()
+                                         ? births / static_cast<double>(patches.size())
+                                         : std::nan(""));
+      row.emplace_back("active_share",
+                       patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
       if (have_previous_state) {
         for (auto& kv : retired_counts(tracker.retired())) row.push_back(std::move(kv));
         for (const RetiredPatch& r : tracker.retired()) ++retired_by_age[static_cast<int>(r.cause)][age_bucket(r.age)];
@@ -537,7 +554,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       for (std::size_t t = 0; t < map.face.size(); ++t) {
         if (map.face[t] >= 0) count.push_back(synth.count.pixels[t]);
       }
-      row.emplace_back("ghosting_mean", count.empty() ? std::nan("") : std::accumulate(count.begin(), count.end(), 0.0) / count.size());
+      row.emplace_back("ghosting_mean",
+                       count.empty() ? std::nan("") : std::accumulate(count.begin(), count.end(), 0.0) / count.size());
       row.emplace_back("ghosting_p95", quantile(count, 0.95));
 
       std::vector<double> distortion;
@@ -545,13 +563,15 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       for (const Patch& p : patches) {
         for (std::size_t t = 0; t < p.triangles.size(); ++t) {
           const Tri& tri = p.triangles[t];
-          distortion.push_back(triangle_distortion(p.rest[t], p.positions[tri[0]], p.positions[tri[1]], p.positions[tri[2]]));
+          distortion.push_back(
+              triangle_distortion(p.rest[t], p.positions[tri[0]], p.positions[tri[1]], p.positions[tri[2]]));
         }
         for (float q : p.quality) vertices++, poor += q < 0.5f;
       }
       row.emplace_back("distortion_median", quantile(distortion, 0.5));
       row.emplace_back("distortion_p95", quantile(distortion, 0.95));
-      row.emplace_back("distortion_max", distortion.empty() ? std::nan("") : *std::max_element(distortion.begin(), distortion.end()));
+      row.emplace_back("distortion_max",
+                       distortion.empty() ? std::nan("") : *std::max_element(distortion.begin(), distortion.end()));
       row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
@@ -560,10 +580,12 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     const std::vector<char> mask = chart_mask(current.mesh, current.atlas.width);
     const std::vector<double> contrast = contrast_ratio(current.atlas, mask, exemplar);
     const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
-    for (std::size_t c = 0; c < contrast.size(); ++c) row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
+    for (std::size_t c = 0; c < contrast.size(); ++c)
+      row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
     const double tile = (2.0 + resolved->selection_margin) * resolved->radius;
     const double density = texel_density(current.mesh, current.atlas.width);
-    const double scale = exemplar.image().width * resolved->uv_scale / (tile * density);  // exemplar texels per atlas texel
+    const double scale =
+        exemplar.image().width * resolved->uv_scale / (tile * density);  // exemplar texels per atlas texel
     double spectrum = std::nan("");
     for (int n : {64, 32, 16}) {
       const auto windows = chart_windows(mask, current.atlas.width, n, 8);
@@ -571,12 +593,14 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       std::vector<double> reference(n / 2 - 1, 0.0);
       const int crops = 8;
       for (int k = 0; k < crops; ++k) {
-        const Image crop = exemplar_crop(exemplar, exemplar.image().width * (0.37 * k), exemplar.image().height * (0.61 * k), scale, n);
+        const Image crop = exemplar_crop(exemplar, exemplar.image().width * (0.37 * k),
+                                         exemplar.image().height * (0.61 * k), scale, n);
         const std::vector<double> s = radial_log_spectrum(crop, 0, 0, n);
         for (std::size_t b = 0; b < s.size(); ++b) reference[b] += s[b] / crops;
       }
       double sum = 0.0;
-      for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(current.atlas, x, y, n), reference);
+      for (const auto& [x, y] : windows)
+        sum += spectrum_distance(radial_log_spectrum(current.atlas, x, y, n), reference);
       spectrum = sum / static_cast<double>(windows.size());
       row.emplace_back("spectrum_crop", n);
       break;
@@ -585,7 +609,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
 
     // Texture–flow agreement with the previous frame.
     if (previous) {
-      const WarpingError w = warping_error(*previous_mesh, *previous, current, dt, exemplar, options.samples, options.seed + frame);
+      const WarpingError w =
+          warping_error(*previous_mesh, *previous, current, dt, exemplar, options.samples, options.seed + frame);
       row.emplace_back("warp_advected", w.advected);
       row.emplace_back("warp_fixed", w.fixed);
       row.emplace_back("warp_random", w.random);
@@ -606,7 +631,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     previous.emplace(std::move(current));
     previous_mesh = mesh;
   }
-  for (const auto& [id, first] : born) lifetimes.push_back(sequence.frames().back() - first + 1);  // still alive: censored
+  for (const auto& [id, first] : born)
+    lifetimes.push_back(sequence.frames().back() - first + 1);  // still alive: censored
 
   // Outputs: per-frame lines, a summary (means over the frames measured), the report.
   std::string lines;
@@ -616,7 +642,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   std::vector<std::string> keys;
   for (const Row& r : rows) {
     for (const auto& [k, v] : r) {
-      if (k != "frame" && k != "spectrum_crop" && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+      if (k != "frame" && k != "spectrum_crop" && std::find(keys.begin(), keys.end(), k) == keys.end())
+        keys.push_back(k);
     }
   }
   for (const std::string& k : keys) {
@@ -626,15 +653,18 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       const double v = get(r, k);
       if (std::isfinite(v)) sum += v, ++n;
     }
-    summary.emplace_back(k == "uncovered_area" || k == "uncovered_texels" ? k + "_mean" : k, n ? sum / n : std::nan(""));
+    summary.emplace_back(k == "uncovered_area" || k == "uncovered_texels" ? k + "_mean" : k,
+                         n ? sum / n : std::nan(""));
   }
-  summary.emplace_back("patch_lifetime_mean",
-                       lifetimes.empty() ? std::nan("") : std::accumulate(lifetimes.begin(), lifetimes.end(), 0.0) / lifetimes.size());
+  summary.emplace_back(
+      "patch_lifetime_mean",
+      lifetimes.empty() ? std::nan("") : std::accumulate(lifetimes.begin(), lifetimes.end(), 0.0) / lifetimes.size());
   write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
 
   std::ostringstream html;
   html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << options.run_dir
-       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px 10px;text-align:right}"
+       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
+          "10px;text-align:right}"
           "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
   html << "<h1>fluidtex eval</h1><p>Run: <code>" << options.run_dir << "</code>, " << rows.size()
        << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
@@ -658,17 +688,26 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   }
   html << "</table><h2>Per frame</h2>";
   const std::vector<std::tuple<std::string, std::vector<std::string>, std::vector<std::string>>> charts = {
-      {"Coverage: uncovered share (should be 0)", {"uncovered_area", "uncovered_texels"}, {"surface area", "chart texels"}},
+      {"Coverage: uncovered share (should be 0)",
+       {"uncovered_area", "uncovered_texels"},
+       {"surface area", "chart texels"}},
       {"Ghosting: patches blended per texel", {"ghosting_mean", "ghosting_p95"}, {"mean", "95th pct"}},
-      {"Patches by state", {"active", "fading_in", "fading_out_distorted", "fading_out_close"}, {"active", "fading in", "out: distorted", "out: too close"}},
+      {"Patches by state",
+       {"active", "fading_in", "fading_out_distorted", "fading_out_close"},
+       {"active", "fading in", "out: distorted", "out: too close"}},
       {"Patch births and deaths", {"births", "deaths"}, {"births", "deaths"}},
-      {"Churn: births over live patches, active share", {"birth_rate", "active_share"}, {"births / live", "active / live"}},
+      {"Churn: births over live patches, active share",
+       {"birth_rate", "active_share"},
+       {"births / live", "active / live"}},
       {"Patches retired per frame, by rule",
-       {"retired_centre_lost", "retired_emptied", "retired_vertices_lost", "retired_split", "retired_flipped", "retired_quality", "retired_too_close"},
+       {"retired_centre_lost", "retired_emptied", "retired_vertices_lost", "retired_split", "retired_flipped",
+        "retired_quality", "retired_too_close"},
        {"centre lost", "emptied", "vertices lost", "split", "flipped", "quality", "too close"}},
       {"Distortion D_T", {"distortion_median", "distortion_p95"}, {"median", "95th pct"}},
       {"Warping error (σ units)", {"warp_advected", "warp_fixed", "warp_random"}, {"advected", "not moving", "random"}},
-      {"Optical flow vs projected velocity (px)", {"flow_endpoint_px", "flow_speed_px"}, {"endpoint error", "|velocity| (static)"}},
+      {"Optical flow vs projected velocity (px)",
+       {"flow_endpoint_px", "flow_speed_px"},
+       {"endpoint error", "|velocity| (static)"}},
       {"Optical flow angular error (deg)", {"flow_angular_deg"}, {"angular"}},
       {"Contrast σ_out / σ_exemplar", {"contrast_r", "contrast_g", "contrast_b", "contrast"}, {"R", "G", "B", "grey"}},
       {"Spectrum distance to the exemplar", {"spectrum_distance"}, {"log-spectrum RMS"}},
@@ -676,8 +715,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   for (const auto& [title, ks, labels] : charts) html << svg_chart(title, rows, ks, labels) << "\n";
   html << "<h2>Frames</h2>";
   for (const std::string& png : images) {
-    html << "<figure><img src='" << png_data_uri(png) << "'><figcaption>" << std::filesystem::path(png).filename().string()
-         << "</figcaption></figure>";
+    html << "<figure><img src='" << png_data_uri(png) << "'><figcaption>"
+         << std::filesystem::path(png).filename().string() << "</figcaption></figure>";
   }
   html << "</body></html>\n";
   write_text_atomically(dir + "/report.html", html.str());

@@ -38,8 +38,8 @@ FrameInfo inspect_frame(const Sequence& sequence, std::size_t index) {
 std::string format_info(const std::vector<FrameInfo>& frames, double fps) {
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof line, "%7s %9s %9s %10s %10s %10s %10s  %s\n", "frame", "vertices",
-                "faces", "area", "edge", "|v| max", "|v| mean", "notes");
+  std::snprintf(line, sizeof line, "%7s %9s %9s %10s %10s %10s %10s  %s\n", "frame", "vertices", "faces", "area",
+                "edge", "|v| max", "|v| mean", "notes");
   out += line;
   std::size_t bad = 0, nonmanifold = 0, cleaned = 0;
   BBox all;
@@ -61,8 +61,8 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps) {
     }
     if (f.clean.changed()) ++cleaned;
     if (f.clean.nonmanifold_edges > 0) ++nonmanifold;
-    std::snprintf(line, sizeof line, "%7d %9zu %9zu %10.4g %10.4g %10.4g %10.4g  %s\n", f.frame,
-                  f.vertices, f.faces, f.area, f.mean_edge, f.speed_max, f.speed_mean, notes.c_str());
+    std::snprintf(line, sizeof line, "%7d %9zu %9zu %10.4g %10.4g %10.4g %10.4g  %s\n", f.frame, f.vertices, f.faces,
+                  f.area, f.mean_edge, f.speed_max, f.speed_mean, notes.c_str());
     out += line;
     if (first) {
       all = f.bbox;
@@ -78,22 +78,20 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps) {
     comp_max = std::max(comp_max, f.clean.components);
   }
   const std::size_t good = frames.size() - bad;
-  std::snprintf(line, sizeof line, "\n%zu frames (%d..%d), %zu readable, %zu with errors; fps %g\n",
-                frames.size(), frames.empty() ? 0 : frames.front().frame,
-                frames.empty() ? 0 : frames.back().frame, good, bad, fps);
+  std::snprintf(line, sizeof line, "\n%zu frames (%d..%d), %zu readable, %zu with errors; fps %g\n", frames.size(),
+                frames.empty() ? 0 : frames.front().frame, frames.empty() ? 0 : frames.back().frame, good, bad, fps);
   out += line;
   if (good > 0) {
     std::snprintf(line, sizeof line,
                   "vertices %zu..%zu, faces %zu..%zu, up to %d components\n"
                   "bounding box (%.4g, %.4g, %.4g) - (%.4g, %.4g, %.4g), diagonal %.4g\n"
                   "|velocity| %.4g..%.4g scene units/s (%.4g..%.4g per frame)\n",
-                  vmin, vmax, fmin, fmax, comp_max, all.min.x(), all.min.y(), all.min.z(),
-                  all.max.x(), all.max.y(), all.max.z(), all.diagonal(), speed_lo, speed_hi,
-                  speed_lo / fps, speed_hi / fps);
+                  vmin, vmax, fmin, fmax, comp_max, all.min.x(), all.min.y(), all.min.z(), all.max.x(), all.max.y(),
+                  all.max.z(), all.diagonal(), speed_lo, speed_hi, speed_lo / fps, speed_hi / fps);
     out += line;
   }
-  std::snprintf(line, sizeof line, "problems: %zu unreadable, %zu cleaned, %zu non-manifold\n", bad,
-                cleaned, nonmanifold);
+  std::snprintf(line, sizeof line, "problems: %zu unreadable, %zu cleaned, %zu non-manifold\n", bad, cleaned,
+                nonmanifold);
   out += line;
   return out;
 }

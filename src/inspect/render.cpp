@@ -6,7 +6,6 @@
 #include <limits>
 #include <numbers>
 
-
 #include "fluidtex/util/error.h"
 
 namespace fluidtex {
@@ -64,7 +63,8 @@ Camera Camera::orthographic(View view, double min_u, double min_v, double max_u,
 
 Camera Camera::perspective_at(const Vec3& eye, const Vec3& target, double fov_deg, int width, int height) {
   if (width < 1 || height < 1) throw InputError("", "--width and --height must be at least 1");
-  if (!(fov_deg > 0.0 && fov_deg < 180.0)) throw InputError("", "--camera: the field of view must be in (0, 180) degrees");
+  if (!(fov_deg > 0.0 && fov_deg < 180.0))
+    throw InputError("", "--camera: the field of view must be in (0, 180) degrees");
   const Vec3 f = target - eye;
   if (!(f.norm() > 0.0) || !f.allFinite() || !eye.allFinite()) {
     throw InputError("", "--camera: the eye and the target must be distinct finite points");
@@ -274,8 +274,10 @@ void Canvas::disc(const Vec3& p, double radius, const LinearRgb& color) {
   for (int y = cy - r; y <= cy + r; ++y) {
     for (int x = cx - r; x <= cx + r; ++x) {
       const double d = std::hypot(x + 0.5 - c.x(), y + 0.5 - c.y());
-      if (d <= radius - 1.0) put(image, x, y, color);
-      else if (d <= radius) put(image, x, y, rim);
+      if (d <= radius - 1.0)
+        put(image, x, y, color);
+      else if (d <= radius)
+        put(image, x, y, rim);
     }
   }
 }
@@ -313,8 +315,17 @@ namespace {
 
 /// 3×5 glyphs for 0-9 and '-', one row per 3 bits (MSB left).
 const std::array<std::array<unsigned char, 5>, 11> kGlyphs = {{
-    {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1}, {7, 4, 7, 1, 7},
-    {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}, {0, 0, 7, 0, 0},
+    {7, 5, 5, 5, 7},
+    {2, 6, 2, 2, 7},
+    {7, 1, 7, 4, 7},
+    {7, 1, 7, 1, 7},
+    {5, 5, 7, 1, 1},
+    {7, 4, 7, 1, 7},
+    {7, 4, 7, 5, 7},
+    {7, 1, 1, 1, 1},
+    {7, 5, 7, 5, 7},
+    {7, 5, 7, 1, 7},
+    {0, 0, 7, 0, 0},
 }};
 
 void draw_label(Image& im, int x0, int y0, const std::string& text, int scale) {
@@ -333,7 +344,8 @@ void draw_label(Image& im, int x0, int y0, const std::string& text, int scale) {
       for (int col = 0; col < 3; ++col) {
         if (!((kGlyphs[g][row] >> (2 - col)) & 1)) continue;
         for (int sy = 0; sy < scale; ++sy) {
-          for (int sx = 0; sx < scale; ++sx) put(im, gx + col * scale + sx, y0 + (row + 1) * scale + sy, {1.0f, 1.0f, 1.0f});
+          for (int sx = 0; sx < scale; ++sx)
+            put(im, gx + col * scale + sx, y0 + (row + 1) * scale + sy, {1.0f, 1.0f, 1.0f});
         }
       }
     }

@@ -95,9 +95,8 @@ std::vector<int> FramePattern::discover() const {
   const fs::path prefix_path(prefix_);
   fs::path dir = prefix_path.parent_path();
   // prefix "dir/name." -> folder "dir", file prefix "name."; prefix "dir/" -> file prefix "".
-  std::string file_prefix = prefix_.substr(prefix_.find_last_of('/') == std::string::npos
-                                               ? 0
-                                               : prefix_.find_last_of('/') + 1);
+  std::string file_prefix =
+      prefix_.substr(prefix_.find_last_of('/') == std::string::npos ? 0 : prefix_.find_last_of('/') + 1);
   if (dir.empty()) dir = ".";
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return {};

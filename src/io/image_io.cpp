@@ -31,13 +31,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-double srgb_to_linear(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   return s;
 }
 
@@ -76,8 +73,7 @@ Transfer transfer_of(const OIIO::ImageSpec& spec, float* gamma) {
     if (*gamma > 0.0f && std::isfinite(*gamma)) return Transfer::Gamma;
   }
   if (cs == "srgb" || cs == "srgb_texture" || cs == "srgb_rec709_scene") return Transfer::SRGB;
-  if (cs.find("linear") != std::string::npos || cs == "scene_linear" || cs == "lin_srgb" ||
-      cs == "lin_rec709")
+  if (cs.find("linear") != std::string::npos || cs == "scene_linear" || cs == "lin_srgb" || cs == "lin_rec709")
     return Transfer::Linear;
   return is_float_type(spec.format) ? Transfer::Linear : Transfer::SRGB;
 }
@@ -96,8 +92,7 @@ int alpha_index(const OIIO::ImageSpec& spec) {
 /// encoding: code = number of thresholds <= value.
 std::vector<float> srgb_thresholds(int max_code) {
   std::vector<float> t(static_cast<size_t>(max_code));
-  for (int k = 0; k < max_code; ++k)
-    t[k] = static_cast<float>(srgb_to_linear((k + 0.5) / max_code));
+  for (int k = 0; k < max_code; ++k) t[k] = static_cast<float>(srgb_to_linear((k + 0.5) / max_code));
   return t;
 }
 
@@ -105,8 +100,7 @@ template <typename T>
 T quantise(float v, bool srgb, const std::vector<float>& thresholds, int max_code) {
   if (!(v > 0.0f)) return 0;  // also NaN
   if (srgb) {
-    return static_cast<T>(std::upper_bound(thresholds.begin(), thresholds.end(), v) -
-                          thresholds.begin());
+    return static_cast<T>(std::upper_bound(thresholds.begin(), thresholds.end(), v) - thresholds.begin());
   }
   if (v >= 1.0f) return static_cast<T>(max_code);
   return static_cast<T>(std::lround(static_cast<double>(v) * max_code));
@@ -149,8 +143,7 @@ OIIO::TypeDesc pixel_type(const std::string& path, Format format, PixelDepth dep
       if (depth == PixelDepth::UInt16) return OIIO::TypeDesc::UINT16;
       throw InputError(path, "PNG holds 8- or 16-bit integers only; use .exr or .tif for float");
     case Format::Tiff:
-      if (depth == PixelDepth::Default || depth == PixelDepth::UInt16)
-        return OIIO::TypeDesc::UINT16;
+      if (depth == PixelDepth::Default || depth == PixelDepth::UInt16) return OIIO::TypeDesc::UINT16;
       if (depth == PixelDepth::UInt8) return OIIO::TypeDesc::UINT8;
       if (depth == PixelDepth::Float) return OIIO::TypeDesc::FLOAT;
       // OIIO's TIFF writer would silently widen half to float.
@@ -159,13 +152,11 @@ OIIO::TypeDesc pixel_type(const std::string& path, Format format, PixelDepth dep
   return OIIO::TypeDesc::FLOAT;
 }
 
-std::vector<std::string> channel_names(const Image& image, const ImageWriteOptions& options,
-                                       const std::string& path) {
+std::vector<std::string> channel_names(const Image& image, const ImageWriteOptions& options, const std::string& path) {
   if (!options.channel_names.empty()) {
     if (static_cast<int>(options.channel_names.size()) != image.channels)
-      throw InternalError(path + ": " + std::to_string(options.channel_names.size()) +
-                          " channel names given for " + std::to_string(image.channels) +
-                          " channels");
+      throw InternalError(path + ": " + std::to_string(options.channel_names.size()) + " channel names given for " +
+                          std::to_string(image.channels) + " channels");
     return options.channel_names;
   }
   switch (image.channels) {
@@ -189,7 +180,9 @@ void sample_bilinear(const Image& image, double x, double y, float* out, int cha
   const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
   const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
   const double ax = fx - x0, ay = fy - y0;
-  auto at = [&](int xx, int yy, int c) { return static_cast<double>(image.pixels[(static_cast<std::size_t>(yy) * w + xx) * nc + c]); };
+  auto at = [&](int xx, int yy, int c) {
+    return static_cast<double>(image.pixels[(static_cast<std::size_t>(yy) * w + xx) * nc + c]);
+  };
   for (int c = 0; c < (channels > 0 ? std::min(channels, nc) : nc); ++c) {
     out[c] = static_cast<float>((1 - ay) * ((1 - ax) * at(x0, y0, c) + ax * at(x1, y0, c)) +
                                 ay * ((1 - ax) * at(x0, y1, c) + ax * at(x1, y1, c)));
@@ -197,9 +190,7 @@ void sample_bilinear(const Image& image, double x, double y, float* out, int cha
 }
 
 Image read_image(const std::string& path) {
-  auto fail = [&](const std::string& reason) {
-    return InputError(path, "cannot read image: " + reason);
-  };
+  auto fail = [&](const std::string& reason) { return InputError(path, "cannot read image: " + reason); };
   std::error_code ec;
   if (!fs::exists(path, ec)) throw fail("no such file");
   if (fs::is_directory(path, ec)) throw fail("is a folder");
@@ -214,8 +205,7 @@ Image read_image(const std::string& path) {
   }
   const OIIO::ImageSpec spec = in->spec();
   if (spec.deep) throw fail("deep images are not supported");
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw fail("empty image");
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw fail("empty image");
   if (spec.depth > 1) throw fail("volume images are not supported");
 
   Image image;
@@ -241,8 +231,7 @@ Image read_image(const std::string& path) {
     for (size_t i = 0; i < row; ++i) {
       if (static_cast<int>(i % image.channels) == alpha) continue;
       const double v = p[i];
-      p[i] = static_cast<float>(transfer == Transfer::SRGB ? srgb_to_linear(v)
-                                                           : std::pow(std::max(v, 0.0), gamma));
+      p[i] = static_cast<float>(transfer == Transfer::SRGB ? srgb_to_linear(v) : std::pow(std::max(v, 0.0), gamma));
     }
   });
   return image;
@@ -252,14 +241,11 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
   const Format format = format_of(path);
   const OIIO::TypeDesc type = pixel_type(path, format, options.depth);
   if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
-      image.pixels.size() !=
-          static_cast<size_t>(image.width) * image.height * image.channels)
-    throw InternalError(path + ": image buffer does not match its " + std::to_string(image.width) +
-                        "x" + std::to_string(image.height) + "x" +
-                        std::to_string(image.channels) + " size");
+      image.pixels.size() != static_cast<size_t>(image.width) * image.height * image.channels)
+    throw InternalError(path + ": image buffer does not match its " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + "x" + std::to_string(image.channels) + " size");
   if (format == Format::Png && image.channels > 4)
-    throw InternalError(path + ": PNG holds at most 4 channels, got " +
-                        std::to_string(image.channels));
+    throw InternalError(path + ": PNG holds at most 4 channels, got " + std::to_string(image.channels));
 
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
   spec.channelnames = channel_names(image, options, path);
@@ -284,8 +270,7 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
 
   write_atomically(path, [&](const fs::path& tmp) {
     auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out)
-      throw InternalError(path + ": cannot create image writer: " + one_line(OIIO::geterror()));
+    if (!out) throw InternalError(path + ": cannot create image writer: " + one_line(OIIO::geterror()));
     if (!out->open(tmp.string(), spec))
       throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
     bool ok = false;
@@ -298,8 +283,7 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
     } else {
       ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
     }
-    if (!ok || !out->close())
-      throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
+    if (!ok || !out->close()) throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
   });
 }
 

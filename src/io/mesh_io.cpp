@@ -127,13 +127,11 @@ class FrameImporter final : public OM::IO::BaseImporter {
   void add_texture_information(int, std::string) override {}
 };
 
-
 // --- Values and polygons ----------------------------------------------------------------
 
 /// Reads custom vertex property `name` (float or double, per `type`) into
 /// component `axis` of `out`.
-void take_property(OM::ArrayKernel& kernel, const std::string& name, PlyType type, int axis,
-                   std::vector<Vec3>& out) {
+void take_property(OM::ArrayKernel& kernel, const std::string& name, PlyType type, int axis, std::vector<Vec3>& out) {
   auto copy = [&](auto handle) {
     if (!kernel.get_property_handle(handle, name))
       throw InternalError("OpenMesh did not create vertex property " + name);
@@ -151,8 +149,7 @@ void check_finite(const std::string& path, const std::vector<Vec3>& values, cons
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (values[i].allFinite()) continue;
     const bool nan = values[i].array().isNaN().any();
-    throw InputError(path, std::string(nan ? "NaN" : "Inf") + " in " + what + " of vertex " +
-                               std::to_string(i));
+    throw InputError(path, std::string(nan ? "NaN" : "Inf") + " in " + what + " of vertex " + std::to_string(i));
   }
 }
 
@@ -210,8 +207,8 @@ void triangulate(const std::vector<Vec3>& pos, const int* idx, int n, std::vecto
 
 /// Checks indices and turns the importer's polygons into triangles. Faces
 /// with fewer than three corners are counted in `short_faces`.
-std::vector<Tri> triangles_from(const std::string& path, const FrameImporter& im,
-                                const std::vector<Vec3>& pos, std::size_t& short_faces) {
+std::vector<Tri> triangles_from(const std::string& path, const FrameImporter& im, const std::vector<Vec3>& pos,
+                                std::size_t& short_faces) {
   std::vector<Tri> tris;
   tris.reserve(im.face_start_.size());
   const long long nv = static_cast<long long>(pos.size());
@@ -239,16 +236,14 @@ std::string read_bytes(const std::string& path) {
   if (!in) throw InputError(path, "cannot open file for reading");
   std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
   in.seekg(0);
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
-    throw InputError(path, "read error");
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) throw InputError(path, "read error");
   return bytes;
 }
 
 FrameMesh read_ply(const std::string& path, const std::string& bytes, const ReadOptions& options,
                    std::size_t& short_faces) {
   const PlyHeader header = parse_ply_header(path, bytes);
-  const PlyLayout layout = plan_ply_read(path, header, bytes, options.velocity_attr,
-                                         options.require_velocities);
+  const PlyLayout layout = plan_ply_read(path, header, bytes, options.velocity_attr, options.require_velocities);
 
   FrameImporter im;
   std::string canonical = canonical_ply_header(header, layout);
@@ -263,10 +258,10 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
   // A short ASCII body leaves the stream failed (binary sizes were checked up
   // front, so failure there also means a short body).
   if (!ok || in.fail() || im.n_vertices() != nv || im.face_start_.size() != nf + 1) {
-    const std::string what = header.format == PlyFormat::Ascii ? "truncated or unparsable ASCII body"
-                                                               : "truncated or malformed binary body";
-    throw InputError(path, what + " (the header promises " + std::to_string(nv) + " vertices and " +
-                               std::to_string(nf) + " faces)");
+    const std::string what =
+        header.format == PlyFormat::Ascii ? "truncated or unparsable ASCII body" : "truncated or malformed binary body";
+    throw InputError(
+        path, what + " (the header promises " + std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces)");
   }
 
   FrameMesh mesh;
@@ -287,10 +282,10 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
 FrameMesh read_obj(const std::string& path, const std::string& bytes, const ReadOptions& options,
                    std::size_t& short_faces) {
   if (options.require_velocities)
-    throw InputError(path, "OBJ cannot carry velocities; use a PLY with per-vertex velocities or "
-                           "--velocity-from-positions");
-  if (bytes.substr(0, 4096).find('\0') != std::string::npos)
-    throw InputError(path, "not an OBJ file (binary data)");
+    throw InputError(path,
+                     "OBJ cannot carry velocities; use a PLY with per-vertex velocities or "
+                     "--velocity-from-positions");
+  if (bytes.substr(0, 4096).find('\0') != std::string::npos) throw InputError(path, "not an OBJ file (binary data)");
   FrameImporter im;
   // OBJReader reads from the file itself (it resolves mtllib paths relative to it).
   const bool ok = run_openmesh_reader([&] {
@@ -328,8 +323,8 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
   if (bytes.empty()) throw InputError(path, "empty file (0 bytes)");
 
   std::size_t short_faces = 0;
-  FrameMesh mesh = ext == ".ply" ? read_ply(path, bytes, options, short_faces)
-                                 : read_obj(path, bytes, options, short_faces);
+  FrameMesh mesh =
+      ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
   if (mesh.positions.empty()) throw InputError(path, "empty mesh (no vertices)");
   if (mesh.triangles.empty()) throw InputError(path, "empty mesh (no faces)");
 

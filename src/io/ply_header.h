@@ -69,11 +69,11 @@ inline bool is_float(PlyType t) { return t == PlyType::Float32 || t == PlyType::
 
 inline bool parse_type(const std::string& s, PlyType& t) {
   static const std::pair<const char*, PlyType> table[] = {
-      {"char", PlyType::Int8},     {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
-      {"uint8", PlyType::UInt8},   {"short", PlyType::Int16},     {"int16", PlyType::Int16},
-      {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
-      {"int32", PlyType::Int32},   {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
-      {"float", PlyType::Float32}, {"float32", PlyType::Float32}, {"double", PlyType::Float64},
+      {"char", PlyType::Int8},      {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
+      {"uint8", PlyType::UInt8},    {"short", PlyType::Int16},     {"int16", PlyType::Int16},
+      {"ushort", PlyType::UInt16},  {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
+      {"int32", PlyType::Int32},    {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
+      {"float", PlyType::Float32},  {"float32", PlyType::Float32}, {"double", PlyType::Float64},
       {"float64", PlyType::Float64}};
   for (const auto& [name, type] : table)
     if (s == name) return t = type, true;
@@ -92,8 +92,7 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
   bool have_format = false;
   std::size_t pos = bytes.find('\n') + 1;
   for (int line_no = 2;; ++line_no) {
-    if (pos >= bytes.size())
-      throw InputError(path, "truncated PLY header (no end_header line)");
+    if (pos >= bytes.size()) throw InputError(path, "truncated PLY header (no end_header line)");
     std::size_t eol = bytes.find('\n', pos);
     const std::size_t next = eol == std::string::npos ? bytes.size() : eol + 1;
     if (eol == std::string::npos) eol = bytes.size();
@@ -108,15 +107,18 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
     if (tok[0] == "end_header") break;
     if (tok[0] == "format") {
       if (tok.size() < 2) throw bad("format line without a format");
-      if (tok[1] == "ascii") h.format = PlyFormat::Ascii;
-      else if (tok[1] == "binary_little_endian") h.format = PlyFormat::BinaryLE;
-      else if (tok[1] == "binary_big_endian") h.format = PlyFormat::BinaryBE;
-      else throw InputError(path, "unsupported PLY format '" + tok[1] + "'");
+      if (tok[1] == "ascii")
+        h.format = PlyFormat::Ascii;
+      else if (tok[1] == "binary_little_endian")
+        h.format = PlyFormat::BinaryLE;
+      else if (tok[1] == "binary_big_endian")
+        h.format = PlyFormat::BinaryBE;
+      else
+        throw InputError(path, "unsupported PLY format '" + tok[1] + "'");
       have_format = true;
     } else if (tok[0] == "element") {
       unsigned long long count = 0;
-      if (tok.size() != 3 ||
-          std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count).ec != std::errc())
+      if (tok.size() != 3 || std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count).ec != std::errc())
         throw bad("expected 'element <name> <count>'");
       if (count > 0x7fffffffull) throw bad("element count " + tok[2] + " is too large");
       h.elements.push_back({tok[1], static_cast<std::size_t>(count), {}});
@@ -166,14 +168,13 @@ inline void check_binary_size(const std::string& path, const PlyHeader& h, const
   for (std::size_t e = 0; e <= l.face_element; ++e) {
     std::size_t stride = 0;
     for (const PlyProperty& p : h.elements[e].properties)
-      stride += p.is_list ? type_size(p.count_type) + (e == l.face_element ? 3 * type_size(p.type) : 0)
-                          : type_size(p.type);
+      stride +=
+          p.is_list ? type_size(p.count_type) + (e == l.face_element ? 3 * type_size(p.type) : 0) : type_size(p.type);
     minimum += h.elements[e].count * stride;
   }
   auto truncated = [&](const std::string& detail) {
     return InputError(path, "truncated file: " + std::to_string(bytes.size()) + " bytes, but the header's " +
-                                std::to_string(nv) + " vertices and " + std::to_string(nf) +
-                                " faces need " + detail);
+                                std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces need " + detail);
   };
   if (bytes.size() < minimum) throw truncated("at least " + std::to_string(minimum));
   std::size_t at = h.body_offset;
@@ -187,7 +188,8 @@ inline void check_binary_size(const std::string& path, const PlyHeader& h, const
         at += type_size(p.type);
         continue;
       }
-      if (at + type_size(p.count_type) > bytes.size()) throw truncated("more (file ends in face " + std::to_string(f) + ")");
+      if (at + type_size(p.count_type) > bytes.size())
+        throw truncated("more (file ends in face " + std::to_string(f) + ")");
       const long long n = read_count(bytes, at, p.count_type, be);
       if (n < 0) throw InputError(path, "face " + std::to_string(f) + " has a negative vertex count");
       at += type_size(p.count_type) + static_cast<std::size_t>(n) * type_size(p.type);
@@ -197,8 +199,7 @@ inline void check_binary_size(const std::string& path, const PlyHeader& h, const
 }
 
 /// The velocity triples tried, in order, for `attr` (see ReadOptions).
-inline std::vector<std::array<std::string, 3>> velocity_candidates(const std::string& path,
-                                                                   const std::string& attr) {
+inline std::vector<std::array<std::string, 3>> velocity_candidates(const std::string& path, const std::string& attr) {
   if (attr.empty()) return {{"vx", "vy", "vz"}, {"velocity_x", "velocity_y", "velocity_z"}, {"v_x", "v_y", "v_z"}};
   if (attr.find(',') == std::string::npos)
     return {{attr + "_x", attr + "_y", attr + "_z"}, {attr + "x", attr + "y", attr + "z"}};
@@ -208,10 +209,12 @@ inline std::vector<std::array<std::string, 3>> velocity_candidates(const std::st
   int n = 0;
   while (std::getline(in, part, ',')) {
     const auto b = part.find_first_not_of(" \t"), e = part.find_last_not_of(" \t");
-    if (n == 3 || b == std::string::npos) throw InputError(path, "--velocity-attr '" + attr + "' must be three comma-separated names or one prefix");
+    if (n == 3 || b == std::string::npos)
+      throw InputError(path, "--velocity-attr '" + attr + "' must be three comma-separated names or one prefix");
     names[n++] = part.substr(b, e - b + 1);
   }
-  if (n != 3) throw InputError(path, "--velocity-attr '" + attr + "' must be three comma-separated names or one prefix");
+  if (n != 3)
+    throw InputError(path, "--velocity-attr '" + attr + "' must be three comma-separated names or one prefix");
   return {names};
 }
 
@@ -239,8 +242,8 @@ inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, cons
   auto typed = [&](const std::string& name, const char* what) {
     const int i = vertex.find(name);
     if (!is_float(vertex.properties[i].type))
-      throw InputError(path, std::string("wrong property type for ") + what + " '" + name + "': " +
-                                 type_name(vertex.properties[i].type) + " (expected float or double)");
+      throw InputError(path, std::string("wrong property type for ") + what + " '" + name +
+                                 "': " + type_name(vertex.properties[i].type) + " (expected float or double)");
     return i;
   };
   const char* axes[] = {"x", "y", "z"};
@@ -267,16 +270,17 @@ inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, cons
                                  "); name them with --velocity-attr or use --velocity-from-positions");
   }
   const PlyElement& face = h.elements[fi];
-  const bool first_is_indices = !face.properties.empty() && face.properties[0].is_list &&
-                                (face.properties[0].name == "vertex_indices" || face.properties[0].name == "vertex_index");
+  const bool first_is_indices =
+      !face.properties.empty() && face.properties[0].is_list &&
+      (face.properties[0].name == "vertex_indices" || face.properties[0].name == "vertex_index");
   if (!first_is_indices) {
     const bool later = face.find("vertex_indices") >= 0 || face.find("vertex_index") >= 0;
     throw InputError(path, later ? "unsupported PLY layout: vertex_indices must be the first face property"
                                  : "faces have no vertex_indices list");
   }
   if (is_float(face.properties[0].type))
-    throw InputError(path, std::string("wrong property type for face indices: ") +
-                               type_name(face.properties[0].type) + " (expected an integer type)");
+    throw InputError(path, std::string("wrong property type for face indices: ") + type_name(face.properties[0].type) +
+                               " (expected an integer type)");
   if (h.format != PlyFormat::Ascii) check_binary_size(path, h, l, bytes);
   return l;
 }

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "fluidtex/util/error.h"
 #include "fluidtex/io/mesh_io.h"
+#include "fluidtex/util/error.h"
 
 namespace fluidtex {
 
@@ -20,8 +20,8 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
     for (int f : frames_) {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(pattern_.path(f), ec)) {
-        throw InputError(pattern_.path(f), "missing frame " + std::to_string(f) +
-                                               " of the requested range " + options_.frames);
+        throw InputError(pattern_.path(f),
+                         "missing frame " + std::to_string(f) + " of the requested range " + options_.frames);
       }
     }
   } else {
@@ -47,8 +47,8 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
       FrameMesh other = read_frame(pattern_.path(frames_[i]), read);
       if (other.positions.size() != mesh.positions.size()) {
         throw InputError(pattern_.path(frames_[i]),
-                         "has " + std::to_string(other.positions.size()) + " vertices but " + path +
-                             " has " + std::to_string(mesh.positions.size()) +
+                         "has " + std::to_string(other.positions.size()) + " vertices but " + path + " has " +
+                             std::to_string(mesh.positions.size()) +
                              ": --velocity-from-positions needs a constant vertex count and order");
       }
       return std::move(other.positions);
@@ -64,8 +64,8 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
   CleanReport cleaned = clean_mesh(mesh);
   if (mesh.empty()) throw InputError(path, "empty mesh: no valid triangle left after cleaning");
   if (options_.strict && cleaned.nonmanifold_edges > 0) {
-    throw InputError(path, std::to_string(cleaned.nonmanifold_edges) +
-                               " non-manifold edges (--strict rejects non-manifold frames)");
+    throw InputError(
+        path, std::to_string(cleaned.nonmanifold_edges) + " non-manifold edges (--strict rejects non-manifold frames)");
   }
   if (report) *report = cleaned;
   return mesh;

@@ -41,8 +41,7 @@ void validate(const std::string& path, const UVMesh& mesh) {
   const auto nv = static_cast<long long>(mesh.positions.size());
   const auto nuv = static_cast<long long>(mesh.uvs.size());
   if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
-    fail("UV mesh has " + std::to_string(mesh.normals.size()) + " normals for " +
-         std::to_string(nv) + " vertices");
+    fail("UV mesh has " + std::to_string(mesh.normals.size()) + " normals for " + std::to_string(nv) + " vertices");
   if (!mesh.uv_triangles.empty() && mesh.uv_triangles.size() != mesh.triangles.size())
     fail("UV mesh has " + std::to_string(mesh.uv_triangles.size()) + " uv triangles for " +
          std::to_string(mesh.triangles.size()) + " triangles");
@@ -50,8 +49,7 @@ void validate(const std::string& path, const UVMesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       if (mesh.triangles[f][k] < 0 || mesh.triangles[f][k] >= nv)
         fail("UV mesh triangle " + std::to_string(f) + " has vertex index out of range");
-      if (!mesh.uv_triangles.empty() &&
-          (mesh.uv_triangles[f][k] < 0 || mesh.uv_triangles[f][k] >= nuv))
+      if (!mesh.uv_triangles.empty() && (mesh.uv_triangles[f][k] < 0 || mesh.uv_triangles[f][k] >= nuv))
         fail("UV mesh triangle " + std::to_string(f) + " has uv index out of range");
     }
   }
@@ -176,9 +174,7 @@ void put_u32_le(std::string& out, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xffu);
 }
 
-void put_f32_le(std::string& out, double v) {
-  put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)));
-}
+void put_f32_le(std::string& out, double v) { put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(v))); }
 
 std::string ply_bytes(const UVMesh& mesh) {
   // One output vertex per distinct (vertex, uv index) pair used by a corner,
@@ -199,14 +195,12 @@ std::string ply_bytes(const UVMesh& mesh) {
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   auto index_of = [&](int v, int uv) {
-    return static_cast<std::uint32_t>(
-        std::lower_bound(keys.begin(), keys.end(), std::make_pair(v, uv)) - keys.begin());
+    return static_cast<std::uint32_t>(std::lower_bound(keys.begin(), keys.end(), std::make_pair(v, uv)) - keys.begin());
   };
 
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment fluidtex UV mesh\n";
   out += "element vertex " + std::to_string(keys.size()) + "\n";
-  for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"})
-    out += std::string("property float ") + p + "\n";
+  for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) out += std::string("property float ") + p + "\n";
   out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
   out.reserve(out.size() + keys.size() * 32 + mesh.triangles.size() * 13);
@@ -222,8 +216,7 @@ std::string ply_bytes(const UVMesh& mesh) {
   }
   for (size_t f = 0; f < mesh.triangles.size(); ++f) {
     out += static_cast<char>(3);
-    for (int k = 0; k < 3; ++k)
-      put_u32_le(out, index_of(mesh.triangles[f][k], has_uv ? mesh.uv_triangles[f][k] : -1));
+    for (int k = 0; k < 3; ++k) put_u32_le(out, index_of(mesh.triangles[f][k], has_uv ? mesh.uv_triangles[f][k] : -1));
   }
   return out;
 }
@@ -238,9 +231,7 @@ void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::s
     fs::path mtl_path = fs::path(path).replace_extension(".mtl");
     mtl_file = mtl_path.filename().string();
     const std::string text = mtl_text(texture_reference(path, mtl_image));
-    write_atomically(mtl_path, [&](const fs::path& tmp) {
-      write_bytes(mtl_path.string(), tmp, text);
-    });
+    write_atomically(mtl_path, [&](const fs::path& tmp) { write_bytes(mtl_path.string(), tmp, text); });
   }
   const std::string text = obj_text(mesh, mtl_file);
   write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, text); });
@@ -256,8 +247,8 @@ void write_uv_mesh(const std::string& path, const UVMesh& mesh) {
   const std::string ext = lower_extension(path);
   if (ext == ".obj") return write_uv_mesh_obj(path, mesh);
   if (ext == ".ply") return write_uv_mesh_ply(path, mesh);
-  throw InputError(path, "unsupported UV mesh extension '" + fs::path(path).extension().string() +
-                             "' (use .obj or .ply)");
+  throw InputError(path,
+                   "unsupported UV mesh extension '" + fs::path(path).extension().string() + "' (use .obj or .ply)");
 }
 
 UVMesh read_uv_mesh_obj(const std::string& path) {
@@ -266,7 +257,8 @@ UVMesh read_uv_mesh_obj(const std::string& path) {
   m.request_halfedge_texcoords2D();
   m.request_vertex_normals();
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord | OpenMesh::IO::Options::VertexNormal;
-  if (!run_openmesh_reader([&] { return OpenMesh::IO::read_mesh(m, path, opt); })) throw InputError(path, "cannot read UV mesh (OBJ)");
+  if (!run_openmesh_reader([&] { return OpenMesh::IO::read_mesh(m, path, opt); }))
+    throw InputError(path, "cannot read UV mesh (OBJ)");
   if (!opt.check(OpenMesh::IO::Options::FaceTexCoord)) throw InputError(path, "UV mesh has no texture coordinates");
   UVMesh out;
   for (auto v : m.vertices()) {

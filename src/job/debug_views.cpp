@@ -60,9 +60,12 @@ void write_disk_view(const std::string& path, const std::vector<Patch>& patches,
   std::vector<Rgb> colors;
   for (const Patch& p : patches) {
     positions.push_back(p.center.point.position);
-    if (is_fading_out(p.state)) colors.push_back({220, 30, 30});
-    else if (p.created_frame == frame) colors.push_back({40, 90, 230});
-    else colors.push_back({30, 200, 60});
+    if (is_fading_out(p.state))
+      colors.push_back({220, 30, 30});
+    else if (p.created_frame == frame)
+      colors.push_back({40, 90, 230});
+    else
+      colors.push_back({30, 200, 60});
   }
   write_colored_ply(path, positions, colors, {});
 }

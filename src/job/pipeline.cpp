@@ -8,16 +8,16 @@
 
 #include <oneapi/tbb/parallel_pipeline.h>
 
-#include "fluidtex/util/atomic_file.h"
-#include "fluidtex/job/debug_views.h"
-#include "fluidtex/util/error.h"
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/image_io.h"
-#include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
-#include "fluidtex/tracking/tracker.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/job/debug_views.h"
+#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/error.h"
 
 namespace fluidtex {
 
@@ -39,15 +39,13 @@ std::string checked_pattern(const std::string& given, const std::string& fallbac
   }
   std::string known;
   for (const char* e : extensions) known += std::string(known.empty() ? "" : ", ") + e;
-  throw InputError(pattern, std::string(option) + ": unsupported extension '" + ext +
-                                "' (use " + known + ")");
+  throw InputError(pattern, std::string(option) + ": unsupported extension '" + ext + "' (use " + known + ")");
 }
 
 }  // namespace
 
 std::string OutputOptions::atlas() const {
-  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"},
-                         "--atlas");
+  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"}, "--atlas");
 }
 
 std::string OutputOptions::mesh() const {
@@ -99,7 +97,8 @@ Exemplar load_exemplar(const std::string& path, bool displacement) {
     image = std::move(grey);
   } else if (displacement && image.channels == 2) {
     image.channels = 1;  // grey + alpha: keep grey
-    for (std::size_t i = 0; i < static_cast<std::size_t>(image.width) * image.height; ++i) image.pixels[i] = image.pixels[2 * i];
+    for (std::size_t i = 0; i < static_cast<std::size_t>(image.width) * image.height; ++i)
+      image.pixels[i] = image.pixels[2 * i];
     image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
   }
   if (image.channels == 2) throw InputError(path, "exemplar has 2 channels (expected grey, RGB or RGBA)");
@@ -159,15 +158,15 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   stats.extra.emplace_back("packing_efficiency", atlas.packing_efficiency);
   stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
   stats.extra.emplace_back("chart_texels", static_cast<double>(result.chart_texels));
-  stats.extra.emplace_back("clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
+  stats.extra.emplace_back(
+      "clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
   stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);
 }
 
 }  // namespace
 
-void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches,
-                      const TrackingOptions& resolved, const Exemplar& exemplar, const JobOptions& options,
-                      int frame, FrameStats& stats) {
+void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches, const TrackingOptions& resolved,
+                      const Exemplar& exemplar, const JobOptions& options, int frame, FrameStats& stats) {
   atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
     return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
   });
@@ -184,9 +183,7 @@ void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& f
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  auto seconds_since = [](Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-  };
+  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   options.validate();
   const Sequence sequence(options.input);
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
@@ -254,109 +251,112 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   std::size_t next = first;
   const std::size_t tokens = 3;
   tbb::parallel_pipeline(
-      tokens,
-      tbb::make_filter<void, std::shared_ptr<Work>>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
-            if (next >= sequence.size()) {
-              fc.stop();
-              return nullptr;
-            }
-            auto work = std::make_shared<Work>();
-            work->index = next++;
-            work->frame = sequence.frames()[work->index];
-            work->stats.frame = work->frame;
-            work->stats.method = to_string(options.method);
-            const auto t0 = Clock::now();
-            CleanReport cleaned;
-            work->mesh = std::make_shared<const FrameMesh>(sequence.load(work->index, &cleaned));
-            if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
-            work->stats.vertices = work->mesh->num_vertices();
-            work->stats.faces = work->mesh->num_faces();
-            work->stats.seconds.emplace_back("read", seconds_since(t0));
-            return work;
-          }) &
-          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
-              tbb::filter_mode::serial_in_order,
-              [&](std::shared_ptr<Work> work) {
-                const int frame = work->frame;
-                reporter.progress(work->index, sequence.size(), "track");
-                const double dt = previous_frame == -1 ? 1.0 / options.input.fps
-                                                       : static_cast<double>(frame - previous_frame) / options.input.fps;
-                if (advector) {
-                  // Flow map: the "track" stage carries the two uv sets to this frame.
-                  const FlowMapStep step = advector->step(work->mesh, dt);
-                  previous_frame = frame;
-                  for (const auto& [stage, secs] : step.seconds) work->stats.seconds.emplace_back(stage, secs);
-                  const std::array<double, 2> w = phase_weights(step.step, options.flowmap.period);
-                  work->stats.extra.emplace_back("weight_a", w[0]);
-                  work->stats.extra.emplace_back("weight_b", w[1]);
-                  if (work->index == first) {
-                    reporter.verbose("flowmap: tile size " + std::to_string(advector->tile_size()) + ", period " +
-                                     std::to_string(options.flowmap.period) + ", axis " + to_string(options.flowmap.axis));
-                  }
-                  work->surface = advector->shared_surface();
-                  work->flow = advector->frame();
-                  return work;
-                }
-                const StepReport step = tracker->step(work->mesh, frame, dt);
-                previous_frame = frame;
-                FrameStats& fs = work->stats;
-                for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
-                fs.patches = step.counts;
-                fs.extra.emplace_back("patches_created", step.created);
-                fs.extra.emplace_back("patches_removed", step.removed);
-                fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
-                for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
-                const std::vector<double>& areas = tracker->surface()->face_areas();
-                fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
-                failed += static_cast<std::size_t>(step.failed);
-                if (work->index == first) {
-                  const TrackingOptions& o = tracker->settings().method;
-                  reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " +
-                                   std::to_string(o.thickness) + ", max projection mpt " +
-                                   std::to_string(o.max_projection));
-                }
-                auto t0 = Clock::now();
-                if (options.output.debug_views) {
-                  const std::string dir = options.output.dir + "/debug";
-                  write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
-                  write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
-                  fs.seconds.emplace_back("debug", seconds_since(t0));
-                }
-                work->surface = tracker->shared_surface();
-                work->patches = tracker->patches();
-                work->resolved = tracker->settings().method;
-                if (write_state) work->state = tracker->serialize();
-                return work;
-              }) &
-          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
-              tbb::filter_mode::parallel,
-              [&](std::shared_ptr<Work> work) {
-                if (flowmap) {
-                  synthesize_flowmap_frame(*work->surface, work->flow, *exemplar, options, work->frame, work->stats);
-                } else if (exemplar) {
-                  synthesize_frame(*work->surface, work->patches, work->resolved, *exemplar, options, work->frame,
-                                   work->stats);
-                } else {
-                  // Track only: coverage measured on the surface (area with Σw = 0).
-                  const auto t0 = Clock::now();
-                  const PatchCoverage coverage(work->patches, work->resolved.max_projection);
-                  work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, coverage);
-                  work->stats.seconds.emplace_back("coverage", seconds_since(t0));
-                }
-                return work;
-              }) &
-          tbb::make_filter<std::shared_ptr<Work>, void>(
-              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> work) {
-                // The state goes last: its presence means the frame is complete (--resume).
-                const auto t0 = Clock::now();
-                if (write_state) write_text_atomically(state_path(options.output.dir, work->frame), work->state);
-                if (!flowmap) work->stats.seconds.emplace_back("state", seconds_since(t0));
-                stats.add(work->stats);
-                ++summary.frames;
-                reporter.progress(work->index + 1, sequence.size(), "written");
-              }));
+      tokens, tbb::make_filter<void, std::shared_ptr<Work>>(
+                  tbb::filter_mode::serial_in_order,
+                  [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
+                    if (next >= sequence.size()) {
+                      fc.stop();
+                      return nullptr;
+                    }
+                    auto work = std::make_shared<Work>();
+                    work->index = next++;
+                    work->frame = sequence.frames()[work->index];
+                    work->stats.frame = work->frame;
+                    work->stats.method = to_string(options.method);
+                    const auto t0 = Clock::now();
+                    CleanReport cleaned;
+                    work->mesh = std::make_shared<const FrameMesh>(sequence.load(work->index, &cleaned));
+                    if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
+                    work->stats.vertices = work->mesh->num_vertices();
+                    work->stats.faces = work->mesh->num_faces();
+                    work->stats.seconds.emplace_back("read", seconds_since(t0));
+                    return work;
+                  }) &
+                  tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+                      tbb::filter_mode::serial_in_order,
+                      [&](std::shared_ptr<Work> work) {
+                        const int frame = work->frame;
+                        reporter.progress(work->index, sequence.size(), "track");
+                        const double dt = previous_frame == -1
+                                              ? 1.0 / options.input.fps
+                                              : static_cast<double>(frame - previous_frame) / options.input.fps;
+                        if (advector) {
+                          // Flow map: the "track" stage carries the two uv sets to this frame.
+                          const FlowMapStep step = advector->step(work->mesh, dt);
+                          previous_frame = frame;
+                          for (const auto& [stage, secs] : step.seconds) work->stats.seconds.emplace_back(stage, secs);
+                          const std::array<double, 2> w = phase_weights(step.step, options.flowmap.period);
+                          work->stats.extra.emplace_back("weight_a", w[0]);
+                          work->stats.extra.emplace_back("weight_b", w[1]);
+                          if (work->index == first) {
+                            reporter.verbose("flowmap: tile size " + std::to_string(advector->tile_size()) +
+                                             ", period " + std::to_string(options.flowmap.period) + ", axis " +
+                                             to_string(options.flowmap.axis));
+                          }
+                          work->surface = advector->shared_surface();
+                          work->flow = advector->frame();
+                          return work;
+                        }
+                        const StepReport step = tracker->step(work->mesh, frame, dt);
+                        previous_frame = frame;
+                        FrameStats& fs = work->stats;
+                        for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+                        fs.patches = step.counts;
+                        fs.extra.emplace_back("patches_created", step.created);
+                        fs.extra.emplace_back("patches_removed", step.removed);
+                        fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
+                        for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
+                        const std::vector<double>& areas = tracker->surface()->face_areas();
+                        fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
+                        failed += static_cast<std::size_t>(step.failed);
+                        if (work->index == first) {
+                          const TrackingOptions& o = tracker->settings().method;
+                          reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " +
+                                           std::to_string(o.thickness) + ", max projection mpt " +
+                                           std::to_string(o.max_projection));
+                        }
+                        auto t0 = Clock::now();
+                        if (options.output.debug_views) {
+                          const std::string dir = options.output.dir + "/debug";
+                          write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
+                          write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
+                          fs.seconds.emplace_back("debug", seconds_since(t0));
+                        }
+                        work->surface = tracker->shared_surface();
+                        work->patches = tracker->patches();
+                        work->resolved = tracker->settings().method;
+                        if (write_state) work->state = tracker->serialize();
+                        return work;
+                      }) &
+                  tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+                      tbb::filter_mode::parallel,
+                      [&](std::shared_ptr<Work> work) {
+                        if (flowmap) {
+                          synthesize_flowmap_frame(*work->surface, work->flow, *exemplar, options, work->frame,
+                                                   work->stats);
+                        } else if (exemplar) {
+                          synthesize_frame(*work->surface, work->patches, work->resolved, *exemplar, options,
+                                           work->frame, work->stats);
+                        } else {
+                          // Track only: coverage measured on the surface (area with Σw = 0).
+                          const auto t0 = Clock::now();
+                          const PatchCoverage coverage(work->patches, work->resolved.max_projection);
+                          work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, coverage);
+                          work->stats.seconds.emplace_back("coverage", seconds_since(t0));
+                        }
+                        return work;
+                      }) &
+                  tbb::make_filter<std::shared_ptr<Work>, void>(
+                      tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> work) {
+                        // The state goes last: its presence means the frame is complete (--resume).
+                        const auto t0 = Clock::now();
+                        if (write_state)
+                          write_text_atomically(state_path(options.output.dir, work->frame), work->state);
+                        if (!flowmap) work->stats.seconds.emplace_back("state", seconds_since(t0));
+                        stats.add(work->stats);
+                        ++summary.frames;
+                        reporter.progress(work->index + 1, sequence.size(), "written");
+                      }));
   if (failed > 0) {
     reporter.warn(std::to_string(failed) + " new disks got no patch (degenerate selection or failed LSCM solve)");
   }

@@ -134,8 +134,10 @@ FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
                 scene.pool_centre.z() - scene.pool_half.z());
   const Vec3 hi(scene.pool_centre.x() + scene.pool_half.x(), scene.pool_centre.y() + scene.pool_half.y(),
                 std::max(0.0, z + scene.radius));
-  const Vec3 lo_all = lo.cwiseMin(Vec3(scene.drop_xy.x() - scene.radius, scene.drop_xy.y() - scene.radius, z - scene.radius));
-  const Vec3 hi_all = hi.cwiseMax(Vec3(scene.drop_xy.x() + scene.radius, scene.drop_xy.y() + scene.radius, z + scene.radius));
+  const Vec3 lo_all =
+      lo.cwiseMin(Vec3(scene.drop_xy.x() - scene.radius, scene.drop_xy.y() - scene.radius, z - scene.radius));
+  const Vec3 hi_all =
+      hi.cwiseMax(Vec3(scene.drop_xy.x() + scene.radius, scene.drop_xy.y() + scene.radius, z + scene.radius));
   const int pad = 5;
   openvdb::Coord imin, imax;
   for (int k = 0; k < 3; ++k) {

@@ -9,9 +9,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <cstdio>
-#include <complex>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -48,7 +48,10 @@ using Implicit2D = std::function<double(const Vec2&)>;
 FrameMesh mesh_implicit_2d(const Implicit2D& F, const Vec2& lo, const Vec2& hi, double h) {
   // Even cell counts keep the grid (and its diagonal pattern) mirror
   // symmetric about the box centre.
-  auto cells = [&](double extent) { const int n = std::max(2, static_cast<int>(std::ceil(extent / h))); return n + n % 2; };
+  auto cells = [&](double extent) {
+    const int n = std::max(2, static_cast<int>(std::ceil(extent / h)));
+    return n + n % 2;
+  };
   const int nx = cells(hi.x() - lo.x()), ny = cells(hi.y() - lo.y());
   const Vec2 origin = 0.5 * (lo + hi) - 0.5 * h * Vec2(nx, ny);
   const int stride = nx + 1;
@@ -213,9 +216,9 @@ FrameMesh make_rotation(const SceneOptions& options) {
 struct SplitFlow {
   double beta = kPi / 6.0;  // branch half-angle from the vertical
   double n = kPi / (kPi - kPi / 6.0);
-  double U = 0.75;          // speed scale, units / s
-  double Q = 0.32;          // wall stream-function level (in units of U)
-  double R = 1.0;           // inflow / outflow cut radius
+  double U = 0.75;  // speed scale, units / s
+  double Q = 0.32;  // wall stream-function level (in units of U)
+  double R = 1.0;   // inflow / outflow cut radius
 
   static double phi(const Vec2& p) { return std::atan2(p.x(), -p.y()); }
 
@@ -367,8 +370,8 @@ FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptio
 
 void write_frame_ply(const std::string& path, const FrameMesh& mesh) {
   if (mesh.velocities.size() != mesh.positions.size()) {
-    throw InternalError(path + ": mesh has " + std::to_string(mesh.velocities.size()) +
-                        " velocities for " + std::to_string(mesh.positions.size()) + " vertices");
+    throw InternalError(path + ": mesh has " + std::to_string(mesh.velocities.size()) + " velocities for " +
+                        std::to_string(mesh.positions.size()) + " vertices");
   }
   std::string data = "ply\nformat binary_little_endian 1.0\ncomment fluidtex example scene\n";
   data += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
@@ -403,9 +406,8 @@ std::string write_scene(const std::string& scene, const std::string& dir, const 
   };
   // Frames are independent: generate and write them in parallel (the bytes
   // of each file do not depend on the schedule).
-  tbb::parallel_for(1, options.frames + 1, [&](int frame) {
-    write_frame_ply(frame_path(frame), make_scene_frame(scene, frame, options));
-  });
+  tbb::parallel_for(1, options.frames + 1,
+                    [&](int frame) { write_frame_ply(frame_path(frame), make_scene_frame(scene, frame, options)); });
   return pattern;
 }
 

@@ -7,12 +7,12 @@
 #include <string>
 #include <unordered_map>
 
-#include <Eigen/Eigenvalues>
 #include <oneapi/tbb/parallel_for.h>
+#include <Eigen/Eigenvalues>
 
 #include "fluidtex/geometry/disk_region.h"
-#include "fluidtex/util/error.h"
 #include "fluidtex/geometry/parameterization.h"
+#include "fluidtex/util/error.h"
 
 namespace fluidtex {
 
@@ -60,7 +60,8 @@ bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatCha
     const auto& c = out.corners[i];
     const double a_uv = 0.5 * std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x());
     const Tri& t = disk.triangles[i];
-    const double a3 = 0.5 * (disk.positions[t[1]] - disk.positions[t[0]]).cross(disk.positions[t[2]] - disk.positions[t[0]]).norm();
+    const double a3 =
+        0.5 * (disk.positions[t[1]] - disk.positions[t[0]]).cross(disk.positions[t[2]] - disk.positions[t[0]]).norm();
     if (a3 > 0.0 && a_uv > 0.0) {
       weighted += a3 * std::max(a_uv / a3, a3 / a_uv);
       total += a3;
@@ -157,7 +158,8 @@ Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, in
     const int c1 = std::min(cols - 1, static_cast<int>(std::floor((xmax + gutter) / cell)));
     for (int c = c0; c <= c1; ++c) {
       double y0, y1;
-      if (!slab_range(t, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0, y1)) continue;
+      if (!slab_range(t, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0, y1))
+        continue;
       lo[c] = std::min(lo[c], y0);
       hi[c] = std::max(hi[c], y1);
     }
@@ -278,9 +280,11 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     std::vector<double> stretch(chart_faces.size(), 1.0);
     std::vector<char> ok(chart_faces.size(), 1);
     tbb::parallel_for(std::size_t(0), chart_faces.size(), [&](std::size_t c) {
-      if (chart_faces[c].size() == 1) flat[c] = flat_face(mesh, chart_faces[c][0]);
-      else ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch &&
-                   (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
+      if (chart_faces[c].size() == 1)
+        flat[c] = flat_face(mesh, chart_faces[c][0]);
+      else
+        ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch &&
+                (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
     });
     pending.clear();
     for (std::size_t c = 0; c < chart_faces.size(); ++c) {
@@ -308,8 +312,10 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
   double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
   for (int iter = 0; iter < 14; ++iter) {  // density to 1/16000 of the 100% bound
     const double mid = 0.5 * (lo + hi);
-    if (pack_shapes(final_flat, mid, n, options.gutter, placement)) lo = mid;
-    else hi = mid;
+    if (pack_shapes(final_flat, mid, n, options.gutter, placement))
+      lo = mid;
+    else
+      hi = mid;
   }
   if (!(lo > 0.0) || !pack_shapes(final_flat, lo, n, options.gutter, placement)) {
     throw InternalError("atlas: " + std::to_string(final_flat.size()) + " charts do not fit in " + std::to_string(n) +
@@ -352,8 +358,8 @@ UVMesh atlas_uv_mesh(const SurfaceIndex& surface, const Atlas& atlas) {
   const double inv = 1.0 / atlas.size;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     for (int k = 0; k < 3; ++k) {
-      const std::uint64_t key = (static_cast<std::uint64_t>(mesh.triangles[f][k]) << 32) |
-                                static_cast<std::uint32_t>(atlas.face_chart[f]);
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(mesh.triangles[f][k]) << 32) | static_cast<std::uint32_t>(atlas.face_chart[f]);
       auto [it, inserted] = shared.emplace(key, static_cast<int>(out.uvs.size()));
       if (inserted) {
         const Vec2& p = atlas.corner_px[f][k];

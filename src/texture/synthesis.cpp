@@ -9,8 +9,8 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/tracking/advection.h"
-#include "fluidtex/util/error.h"
 #include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
 
 namespace fluidtex {
@@ -51,7 +51,7 @@ bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out
 /// apart and combined once the texel's Σcore is known.
 struct Accumulator {
   int channels;
-  std::vector<double> sum, tail_sum;  // channels per texel: Σ core·c, Σ tail·c
+  std::vector<double> sum, tail_sum;                                  // channels per texel: Σ core·c, Σ tail·c
   std::vector<double> sum_w, sum_w2, tail_w, tail_w2, cross, best_w;  // Σcore, Σcore², Σtail, Σtail², Σcore·tail
   std::vector<int> count, tail_count, best_patch, last_patch;
   Accumulator(std::size_t n, int c)
@@ -168,8 +168,10 @@ TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
     for (int f : atlas.charts[c].faces) {
       const auto& p = atlas.corner_px[f];
       const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
-      const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5))), x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
-      const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5))), y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
+      const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5))),
+                x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
+      const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5))),
+                y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
       for (int y = y0; y <= y1; ++y) {
         for (int x = x0; x <= x1; ++x) {
           Vec3 l;
@@ -269,7 +271,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
   std::vector<std::vector<float>> core(patches.size());
   tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
     core[p].resize(patches[p].positions.size());
-    for (std::size_t v = 0; v < core[p].size(); ++v) core[p][v] = core_weight(patches[p], v, options.radius, options.uv_scale);
+    for (std::size_t v = 0; v < core[p].size(); ++v)
+      core[p][v] = core_weight(patches[p], v, options.radius, options.uv_scale);
   });
   const Contributor contribute{patches, core, exemplar, options, options.uv_scale / options.tile_size};
   const double tolerance = options.projection_tolerance;
@@ -280,7 +283,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
   tbb::parallel_for(0, tiles, [&](int ty) {
     for (int y = ty * kTile; y < std::min(n, (ty + 1) * kTile); ++y) {
       for (int x = 0; x < n; ++x) {
-        if (map.face[static_cast<std::size_t>(y) * n + x] >= 0) tile_live[static_cast<std::size_t>(ty) * tiles + x / kTile] = 1;
+        if (map.face[static_cast<std::size_t>(y) * n + x] >= 0)
+          tile_live[static_cast<std::size_t>(ty) * tiles + x / kTile] = 1;
       }
     }
   });
@@ -301,7 +305,7 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
   };
   std::vector<std::vector<Region>> region_lists;
   std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
-  std::vector<std::uint8_t> tri_rim;          // bit k: edge k (corners k, k+1) is on the patch's boundary
+  std::vector<std::uint8_t> tri_rim;        // bit k: edge k (corners k, k+1) is on the patch's boundary
   std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
   // Texels just outside a patch's boundary edge still take it (the same
   // in-plane slack as the exact projection): the corners of a polygonal
@@ -329,8 +333,10 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     std::vector<char> mixed(mesh.positions.size(), 0);
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
       for (int v : mesh.triangles[f]) {
-        if (vertex_chart[v] < 0) vertex_chart[v] = atlas.face_chart[f];
-        else if (vertex_chart[v] != atlas.face_chart[f]) mixed[v] = 1;
+        if (vertex_chart[v] < 0)
+          vertex_chart[v] = atlas.face_chart[f];
+        else if (vertex_chart[v] != atlas.face_chart[f])
+          mixed[v] = 1;
       }
     }
     std::vector<char> chart_border(mesh.triangles.size(), 0);
@@ -341,7 +347,7 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
     // (tile, job). Then merged in patch order, so every tile's list is in
     // patch order whatever the thread count.
     struct Bins {
-      std::vector<std::pair<int, Job>> placed;     // (tile, job); job.texels indexes `lists`
+      std::vector<std::pair<int, Job>> placed;  // (tile, job); job.texels indexes `lists`
       std::vector<std::vector<Region>> lists;
       std::size_t exact = 0;
     };
@@ -402,7 +408,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
         } else {
           ++out.exact;
           Vec3 lo = patch.positions[tri[0]], hi = lo;
-          for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
+          for (int k = 1; k < 3; ++k)
+            lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
           // Surface triangles under the patch triangle: its box grown by the
           // in-plane slack and the chord's sagitta (a quarter of the normal
           // tolerance); the normal tolerance itself is applied per texel.
@@ -632,7 +639,8 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
           continue;
         }
-        t.clamped += resolve_blend(options.blend, sum.data(), sum_w, sum_w2, exemplar.mean(), nc, &color.pixels[i * nc]);
+        t.clamped +=
+            resolve_blend(options.blend, sum.data(), sum_w, sum_w2, exemplar.mean(), nc, &color.pixels[i * nc]);
       }
     }
   });

@@ -148,8 +148,10 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     patch.projections[v] = p;
     patch.positions[v] = p.position;
   }
-  if (removed) remove_vertices(patch, keep, next);
-  else update_border(patch, next);
+  if (removed)
+    remove_vertices(patch, keep, next);
+  else
+    update_border(patch, next);
   if (patch.triangles.empty()) return AdvectResult::Emptied;
   return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
 }
@@ -166,8 +168,8 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& tri = patch.triangles[t];
     if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) continue;
-    const double d = triangle_distortion(patch.rest[t], patch.positions[tri[0]], patch.positions[tri[1]],
-                                         patch.positions[tri[2]]);
+    const double d =
+        triangle_distortion(patch.rest[t], patch.positions[tri[0]], patch.positions[tri[1]], patch.positions[tri[2]]);
     if (d > options.max_distortion) keep[t] = 0, cut = true;
   }
   if (cut) remove_triangles(patch, keep, surface);
@@ -206,13 +208,17 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
     const bool tri_flipped = n.dot(surface_n) < 0.0;
     // Stretched across two disconnected pieces of the surface.
     const int c0 = component[patch.projections[tri[0]].face];
-    const bool tri_split = component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0;
+    const bool tri_split =
+        component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0;
     if (visible) flipped = flipped || tri_flipped, split = split || tri_split;
     const double w = seen_weight(patch, t, options.radius);
     present += w;
-    if (tri_split) loss_split += w;
-    else if (tri_flipped) loss_flipped += w;
-    else shown += w * q, loss_stretch += w * (1.0 - q);
+    if (tri_split)
+      loss_split += w;
+    else if (tri_flipped)
+      loss_flipped += w;
+    else
+      shown += w * q, loss_stretch += w * (1.0 - q);
   }
   patch.quality.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
@@ -244,8 +250,9 @@ double radial_weight(double r, const TrackingOptions& options) {
 
 float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale) {
   const double radial = std::max(0.0, 1.0 - patch.uvs[v].norm() / radius);  // d_uv = d, p_uv is the origin
-  const double ks = radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, double(patch.quality[v]));  // Eq. 4
-  return static_cast<float>(ks * patch.kt);                                                                           // Eq. 2
+  const double ks =
+      radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, double(patch.quality[v]));  // Eq. 4
+  return static_cast<float>(ks * patch.kt);                                                         // Eq. 2
 }
 
 void update_weights(Patch& patch, const TrackingOptions& options) {
@@ -255,7 +262,7 @@ void update_weights(Patch& patch, const TrackingOptions& options) {
     const double radial = radial_weight(patch.uvs[v].norm(), options);  // p_uv is the origin
     const double quality = std::max<double>(patch.quality[v], kCoverageTail);
     const double ks = radial * options.uv_scale * (patch.border[v] ? 0.0 : 1.0) * quality;  // Eq. 4
-    patch.weight[v] = static_cast<float>(ks * patch.kt);                                              // Eq. 2
+    patch.weight[v] = static_cast<float>(ks * patch.kt);                                    // Eq. 2
   }
 }
 

@@ -46,8 +46,7 @@ FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fadin
       // Within rounding of 1 counts as 1: τ steps of 1/τ must reach it.
       if (kt >= 1.0 - 1e-9) return {DiskState::Active, 1.0, false};
       return {DiskState::FadingIn, kt, false};
-    case DiskState::Active:
-      return {DiskState::Active, 1.0, false};
+    case DiskState::Active: return {DiskState::Active, 1.0, false};
     case DiskState::FadingOutDistorted:
     case DiskState::FadingOutClose:
       kt -= rate;  // Eq. 6, last line; K_t <= 0 removes the patch at once

@@ -58,20 +58,17 @@ Fading fading_from_string(const std::string& s) {
 void TrackingOptions::validate() const {
   auto finite = [](double v) { return std::isfinite(v); };
   require(finite(radius) && radius >= 0.0, "radius", "must be >= 0 (0 = automatic)");
-  require(finite(plane_angle) && plane_angle >= -1.0 && plane_angle < 1.0, "plane-angle",
+  require(finite(plane_angle) && plane_angle >= -1.0 && plane_angle < 1.0, "plane-angle", "must be in [-1, 1)");
+  require(finite(patch_vertex_angle) && patch_vertex_angle >= -1.0 && patch_vertex_angle < 1.0, "patch-vertex-angle",
           "must be in [-1, 1)");
-  require(finite(patch_vertex_angle) && patch_vertex_angle >= -1.0 && patch_vertex_angle < 1.0,
-          "patch-vertex-angle", "must be in [-1, 1)");
   require(finite(max_distortion) && max_distortion > 1.0, "max-distortion", "must be > 1");
   require(finite(uv_scale) && uv_scale > 0.0, "uv-scale", "must be > 0");
-  require(finite(max_projection) && max_projection >= 0.0, "max-projection",
-          "must be >= 0 (0 = automatic)");
+  require(finite(max_projection) && max_projection >= 0.0, "max-projection", "must be >= 0 (0 = automatic)");
   require(fade_frames >= 1, "fade-frames", "must be >= 1");
   require(finite(thickness) && thickness >= 0.0, "thickness", "must be >= 0 (0 = automatic)");
-  require(finite(kill_alpha) && kill_alpha >= 0.0 && kill_alpha < 1.0, "kill-alpha",
-          "must be in [0, 1)");
-  require(finite(min_vertex_quality) && min_vertex_quality >= 0.0 && min_vertex_quality <= 1.0,
-          "min-vertex-quality", "must be in [0, 1]");
+  require(finite(kill_alpha) && kill_alpha >= 0.0 && kill_alpha < 1.0, "kill-alpha", "must be in [0, 1)");
+  require(finite(min_vertex_quality) && min_vertex_quality >= 0.0 && min_vertex_quality <= 1.0, "min-vertex-quality",
+          "must be in [0, 1]");
   require(finite(selection_margin) && selection_margin >= 0.0, "selection-margin", "must be >= 0");
 }
 
@@ -82,6 +79,5 @@ TrackingOptions TrackingOptions::resolved(double first_frame_diagonal) const {
   if (r.thickness <= 0.0) r.thickness = 0.25 * r.radius;
   return r;
 }
-
 
 }  // namespace fluidtex

@@ -17,7 +17,8 @@ std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles) 
   edges.reserve(3 * triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<std::uint32_t>(triangles[t][k]), b = static_cast<std::uint32_t>(triangles[t][(k + 1) % 3]);
+      const auto a = static_cast<std::uint32_t>(triangles[t][k]),
+                 b = static_cast<std::uint32_t>(triangles[t][(k + 1) % 3]);
       edges.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k);
     }
   }

@@ -11,8 +11,8 @@
 
 namespace fluidtex {
 
-std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center,
-                                    double select_radius, double patch_vertex_angle) {
+std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center, double select_radius,
+                                    double patch_vertex_angle) {
   const FrameMesh& mesh = surface.mesh();
   const Vec3 c = center.point.position;
   const Vec3 n = center.normal;
@@ -51,7 +51,7 @@ Vec2 uv_at(const Patch& patch, const Vec3& p) {
     const double n2 = n.squaredNorm();
     if (!(n2 > 0.0)) continue;
     const Vec3 q = p - n * (n.dot(p - a) / n2);  // onto the triangle's plane
-    const Vec3 w = barycentric(q, a, b, c);     // clamped into the triangle
+    const Vec3 w = barycentric(q, a, b, c);      // clamped into the triangle
     const Vec3 on = w[0] * a + w[1] * b + w[2] * c;
     const double d2 = (on - p).squaredNorm();
     if (d2 < best) {
@@ -65,14 +65,14 @@ Vec2 uv_at(const Patch& patch, const Vec3& p) {
 }  // namespace
 
 std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
-                                 const TrackingOptions& options, std::uint32_t id, std::uint64_t seed,
-                                 int frame, double edge_length, std::string* failure) {
+                                 const TrackingOptions& options, std::uint32_t id, std::uint64_t seed, int frame,
+                                 double edge_length, std::string* failure) {
   auto fail = [&](const char* why) -> std::optional<Patch> {
     if (failure) *failure = why;
     return std::nullopt;
   };
-  const std::vector<int> faces = select_patch_faces(
-      surface, center, (1.0 + options.selection_margin) * options.radius, options.patch_vertex_angle);
+  const std::vector<int> faces = select_patch_faces(surface, center, (1.0 + options.selection_margin) * options.radius,
+                                                    options.patch_vertex_angle);
   if (faces.empty()) return fail("empty selection");
 
   DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk

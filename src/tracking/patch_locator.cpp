@@ -135,13 +135,13 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
 }
 
 struct PatchCoverage::Bounds {
-  std::vector<int> patch;               // patch index per centre
+  std::vector<int> patch;  // patch index per centre
   std::vector<Vec3> centre;
-  std::vector<double> radius;           // farthest vertex + tolerance
-  std::vector<std::size_t> tri_base;    // per entry: first of its triangles in tri_*
-  std::vector<int> tri;                 // triangle index per entry
+  std::vector<double> radius;         // farthest vertex + tolerance
+  std::vector<std::size_t> tri_base;  // per entry: first of its triangles in tri_*
+  std::vector<int> tri;               // triangle index per entry
   std::vector<Vec3> tri_centre;
-  std::vector<double> tri_reach;        // farthest corner + tolerance
+  std::vector<double> tri_reach;  // farthest corner + tolerance
   double max_radius = 0.0;
   std::unique_ptr<PointIndex> index;
 };

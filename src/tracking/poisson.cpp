@@ -16,13 +16,10 @@ double ellipsoid_k(const Vec3& p, const Vec3& n, const Vec3& c, double r, double
   return planar2 / (r * r) + z * z / (cs * cs);
 }
 
-bool rejects(const Vec3& p, const Vec3& n, const Vec3& c, const Vec3& nc, double r,
-             const PoissonParams& params) {
+bool rejects(const Vec3& p, const Vec3& n, const Vec3& c, const Vec3& nc, double r, const PoissonParams& params) {
   switch (params.criterion) {
-    case Criterion::Sphere:
-      return (c - p).squaredNorm() < r * r;
-    case Criterion::Plane:
-      return same_plane(n, nc, params.plane_angle) && (c - p).squaredNorm() < r * r;
+    case Criterion::Sphere: return (c - p).squaredNorm() < r * r;
+    case Criterion::Plane: return same_plane(n, nc, params.plane_angle) && (c - p).squaredNorm() < r * r;
     case Criterion::Ellipsoid:
       return same_plane(n, nc, params.plane_angle) && ellipsoid_k(p, n, c, r, params.thickness) < 1.0;
   }
@@ -45,8 +42,8 @@ SurfaceSample sample_at(const SurfaceIndex& surface, int face, const Vec3& bary)
 
 }  // namespace
 
-std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius,
-                                              std::uint64_t seed, double per_disk) {
+std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius, std::uint64_t seed,
+                                              double per_disk) {
   const FrameMesh& mesh = surface.mesh();
   const std::size_t nf = mesh.triangles.size();
   const double density = per_disk / (M_PI * radius * radius);  // candidates per unit area
@@ -55,8 +52,8 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
     SurfaceSample sample;
   };
   std::vector<Keyed> keyed;
-  keyed.reserve(static_cast<std::size_t>(density * std::accumulate(surface.face_areas().begin(),
-                                                                   surface.face_areas().end(), 0.0)) +
+  keyed.reserve(static_cast<std::size_t>(
+                    density * std::accumulate(surface.face_areas().begin(), surface.face_areas().end(), 0.0)) +
                 mesh.positions.size() + 16);
   auto key = [&](std::uint64_t a, std::uint64_t b) {
     return hash_values({seed, static_cast<std::uint64_t>(Stream::CandidateOrder), a, b});
@@ -72,7 +69,8 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
   for (std::size_t f = 0; f < nf; ++f) {
     const double expected = surface.face_areas()[f] * density;
     const double whole = std::floor(expected);
-    const int count = static_cast<int>(whole) + (uniform(seed, Stream::Candidates, f, ~0ULL) < expected - whole ? 1 : 0);
+    const int count =
+        static_cast<int>(whole) + (uniform(seed, Stream::Candidates, f, ~0ULL) < expected - whole ? 1 : 0);
     for (int k = 0; k < count; ++k) {
       // Uniform point in the triangle (square-root parameterisation).
       const double u = uniform(seed, Stream::Candidates, f, 2 * k);
@@ -104,15 +102,14 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 }
 
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
-                                     const std::vector<SurfaceSample>& candidates,
-                                     const SurfaceIndex& surface, const PoissonParams& params,
-                                     double min_component_area, const std::vector<char>* uncovered) {
-  const PointIndex old_index(
-      [&] {
-        std::vector<Vec3> centres;
-        for (const SurfaceSample& d : existing) centres.push_back(d.point.position);
-        return centres;
-      }());
+                                     const std::vector<SurfaceSample>& candidates, const SurfaceIndex& surface,
+                                     const PoissonParams& params, double min_component_area,
+                                     const std::vector<char>* uncovered) {
+  const PointIndex old_index([&] {
+    std::vector<Vec3> centres;
+    for (const SurfaceSample& d : existing) centres.push_back(d.point.position);
+    return centres;
+  }());
   PointIndex new_index;
   const double reach = search_radius(params.radius, params);
   std::vector<SurfaceSample> kept;

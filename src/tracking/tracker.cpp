@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include <oneapi/tbb/parallel_for.h>
@@ -28,9 +28,7 @@ void parallel_each(std::size_t n, F&& f) {
   });
 }
 
-PoissonParams poisson_params(const TrackingOptions& o) {
-  return {o.radius, o.thickness, o.plane_angle, o.criterion};
-}
+PoissonParams poisson_params(const TrackingOptions& o) { return {o.radius, o.thickness, o.plane_angle, o.criterion}; }
 
 }  // namespace
 
@@ -39,7 +37,8 @@ std::vector<std::pair<std::string, double>> retired_counts(const std::vector<Ret
   std::array<int, kAgeBuckets> ages{};
   for (const RetiredPatch& r : retired) ++causes[static_cast<int>(r.cause)], ++ages[age_bucket(r.age)];
   std::vector<std::pair<std::string, double>> out;
-  for (int c = 1; c < kRetireCauses; ++c) out.emplace_back(std::string("retired_") + to_string(static_cast<RetireCause>(c)), causes[c]);
+  for (int c = 1; c < kRetireCauses; ++c)
+    out.emplace_back(std::string("retired_") + to_string(static_cast<RetireCause>(c)), causes[c]);
   for (int b = 0; b < kAgeBuckets; ++b) out.emplace_back(std::string("retired_age_") + age_bucket_name(b), ages[b]);
   return out;
 }
@@ -79,8 +78,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     t0 = Clock::now();
     std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
     parallel_each(patches_.size(), [&](std::size_t i) {
-      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o, settings_.advection,
-                                 settings_.motion);
+      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o, settings_.advection, settings_.motion);
     });
     report.seconds.emplace_back("advect", seconds_since(t0));
 
@@ -104,7 +102,8 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
       if (is_lost(advected[i])) {
         ++report.lost;
         if (!is_fading_out(p.state)) {
-          const RetireCause cause = advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
+          const RetireCause cause =
+              advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
           report.retired.push_back({p.id, cause, frame - p.created_frame});
         }
         continue;

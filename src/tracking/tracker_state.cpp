@@ -6,10 +6,10 @@
 #include <sstream>
 #include <type_traits>
 
+#include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
-#include "fluidtex/tracking/tracker.h"
 
 namespace fluidtex {
 
@@ -28,7 +28,9 @@ class Writer {
   void put(const Vec3& v) { put(v.x()), put(v.y()), put(v.z()); }
   void put(const Vec2& v) { put(v.x()), put(v.y()); }
   void put(const RestTriangle& t) { put(t[0]), put(t[1]), put(t[2]); }
-  void put(const SurfacePoint& s) { put(static_cast<std::int32_t>(s.face)), put(s.bary), put(s.position), put(s.distance); }
+  void put(const SurfacePoint& s) {
+    put(static_cast<std::int32_t>(s.face)), put(s.bary), put(s.position), put(s.distance);
+  }
   template <class T>
   void put_vector(const std::vector<T>& v) {
     put(static_cast<std::uint64_t>(v.size()));
@@ -110,7 +112,8 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(s.patch_edge);
   std::uint8_t motion;
   r.get(motion);
-  if (motion > static_cast<std::uint8_t>(PatchMotion::Smooth)) throw InputError(r.path(), "corrupt state file (settings)");
+  if (motion > static_cast<std::uint8_t>(PatchMotion::Smooth))
+    throw InputError(r.path(), "corrupt state file (settings)");
   s.motion = static_cast<PatchMotion>(motion);
   o.fade_frames = fade;
   o.criterion = static_cast<Criterion>(criterion);
@@ -129,7 +132,9 @@ std::uint64_t mesh_fingerprint(const FrameMesh& mesh) {
   };
   for (const Vec3& p : mesh.positions) mix_double(p.x()), mix_double(p.y()), mix_double(p.z());
   for (const Vec3& v : mesh.velocities) mix_double(v.x()), mix_double(v.y()), mix_double(v.z());
-  for (const Tri& t : mesh.triangles) h = mix64(h ^ hash_values({static_cast<std::uint64_t>(t[0]), static_cast<std::uint64_t>(t[1]), static_cast<std::uint64_t>(t[2])}));
+  for (const Tri& t : mesh.triangles)
+    h = mix64(h ^ hash_values({static_cast<std::uint64_t>(t[0]), static_cast<std::uint64_t>(t[1]),
+                               static_cast<std::uint64_t>(t[2])}));
   return h;
 }
 
@@ -154,7 +159,8 @@ std::string Tracker::serialize() const {
     w.put(p.max_distortion), w.put(p.disk_weight), w.put(p.motion);
   }
   w.put(static_cast<std::uint64_t>(retired_.size()));
-  for (const RetiredPatch& r : retired_) w.put(r.id), w.put(static_cast<std::uint8_t>(r.cause)), w.put(static_cast<std::int32_t>(r.age));
+  for (const RetiredPatch& r : retired_)
+    w.put(r.id), w.put(static_cast<std::uint8_t>(r.cause)), w.put(static_cast<std::int32_t>(r.age));
   return w.bytes();
 }
 
@@ -195,13 +201,13 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
     r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
     const std::size_t nv = p.positions.size();
-    bool ok = p.projections.size() == nv && p.uvs.size() == nv && p.border.size() == nv &&
-              p.quality.size() == nv && p.weight.size() == nv && p.rest.size() == p.triangles.size() &&
-              state <= 3 && cause < kRetireCauses;
+    bool ok = p.projections.size() == nv && p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv &&
+              p.weight.size() == nv && p.rest.size() == p.triangles.size() && state <= 3 && cause < kRetireCauses;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }
-    for (const SurfacePoint& s : p.projections) ok = ok && s.face >= 0 && static_cast<std::size_t>(s.face) < mesh->triangles.size();
+    for (const SurfacePoint& s : p.projections)
+      ok = ok && s.face >= 0 && static_cast<std::size_t>(s.face) < mesh->triangles.size();
     if (!ok) throw InputError(path, "corrupt state file (patch " + std::to_string(p.id) + ")");
   }
   std::uint64_t retired;
@@ -218,7 +224,8 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   if (!r.done()) throw InputError(path, "corrupt state file (trailing bytes)");
   t.frame_ = frame;
   t.started_ = true;
-  t.surface_ = std::shared_ptr<const SurfaceIndex>(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
+  t.surface_ =
+      std::shared_ptr<const SurfaceIndex>(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
   t.mesh_ = std::move(mesh);
   return t;
 }

@@ -22,14 +22,12 @@ fs::path temporary_sibling(const fs::path& target) {
   return dir / name;
 }
 
-void write_atomically(const fs::path& target,
-                      const std::function<void(const fs::path& tmp)>& write) {
+void write_atomically(const fs::path& target, const std::function<void(const fs::path& tmp)>& write) {
   std::error_code ec;
   if (target.has_parent_path()) {
     fs::create_directories(target.parent_path(), ec);
     if (ec) {
-      throw InternalError(target.parent_path().string() +
-                          ": cannot create output folder: " + ec.message());
+      throw InternalError(target.parent_path().string() + ": cannot create output folder: " + ec.message());
     }
   }
   const fs::path tmp = temporary_sibling(target);
@@ -43,8 +41,7 @@ void write_atomically(const fs::path& target,
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw InternalError(target.string() + ": cannot move the finished file into place: " +
-                        ec.message());
+    throw InternalError(target.string() + ": cannot move the finished file into place: " + ec.message());
   }
 }
 

@@ -20,8 +20,8 @@ std::string q(const std::string& s) { return "'" + s + "'"; }
 /// the start of a `run` command line over it (without -o).
 std::string rotation_run(const test::TempDir& dir, int frames, int resolution, int exemplar_size, int atlas_size) {
   std::string out;
-  EXPECT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames " + std::to_string(frames) +
-                             " --resolution " + std::to_string(resolution) + " --exemplar gravel --exemplar-size " +
+  EXPECT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames " + std::to_string(frames) + " --resolution " +
+                             std::to_string(resolution) + " --exemplar gravel --exemplar-size " +
                              std::to_string(exemplar_size),
                          &out),
             0)
@@ -93,8 +93,8 @@ TEST(Cli, RunUnreadableExemplarIsBadInputAndNoOutput) {
   std::string out;
   ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 2 --resolution 10", &out), 0);
   test::write_file(dir.path() / "tex.png", "not an image");
-  EXPECT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("tex.png")) +
-                             " -o " + q(dir.file("out")),
+  EXPECT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("tex.png")) + " -o " +
+                             q(dir.file("out")),
                          &out),
             2);
   EXPECT_NE(out.find("tex.png"), std::string::npos) << out;
@@ -132,10 +132,14 @@ TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
 TEST(Cli, RunWritesEveryOutputPerFrame) {
   test::TempDir dir;
   std::string out;
-  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames 3 --resolution 16 --exemplar gravel "
-                         "--exemplar-size 64", &out), 0) << out;
-  ASSERT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) +
-                             " -o " + q(dir.file("out")) + " --atlas-size 128 --aov weight,count --debug-views",
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) +
+                             " --frames 3 --resolution 16 --exemplar gravel "
+                             "--exemplar-size 64",
+                         &out),
+            0)
+      << out;
+  ASSERT_EQ(run_fluidtex("run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) + " -o " +
+                             q(dir.file("out")) + " --atlas-size 128 --aov weight,count --debug-views",
                          &out),
             0)
       << out;
@@ -162,9 +166,10 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
   EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --overlay borders", &out), 2);
   EXPECT_NE(out.find("-i/--input"), std::string::npos) << out;
   EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --camera 1,2,3", &out), 2);
-  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --width 40 --height 30 --camera 0,-3,2,0,0,0,35 "
-                             "--overlay borders,states,velocity -i " + q(dir.file("rotation.####.ply")) +
-                             " --sheet 2 --sheet-only",
+  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) +
+                             " --width 40 --height 30 --camera 0,-3,2,0,0,0,35 "
+                             "--overlay borders,states,velocity -i " +
+                             q(dir.file("rotation.####.ply")) + " --sheet 2 --sheet-only",
                          &out),
             0)
       << out;
@@ -211,8 +216,8 @@ TEST(Cli, CoverageCheckFillsTheHolesThePlainPoissonUpdateLeaves) {
   std::string out;
   ASSERT_EQ(run_fluidtex("gen merge -o " + q(dir.str()) + " --frames 12 --resolution 32", &out), 0) << out;
   auto worst_uncovered = [&](const std::string& name, const std::string& flags) {
-    EXPECT_EQ(run_fluidtex("run -q --track-only -i " + q(dir.file("merge.####.ply")) + " -o " + q(dir.file(name)) + flags,
-                           &out),
+    EXPECT_EQ(run_fluidtex(
+                  "run -q --track-only -i " + q(dir.file("merge.####.ply")) + " -o " + q(dir.file(name)) + flags, &out),
               0)
         << out;
     const std::string stats = test::read_file(dir.path() / name / "stats.jsonl");

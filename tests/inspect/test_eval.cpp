@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <optional>
 
-#include "fluidtex/util/error.h"
+#include "fluidtex/geometry/surface.h"
 #include "fluidtex/inspect/eval.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/tracking/patch_locator.h"
-#include "fluidtex/geometry/surface.h"
+#include "fluidtex/util/error.h"
 #include "mesh_fixtures.h"
 #include "synthesis_fixtures.h"
 #include "test_util.h"
@@ -51,9 +51,9 @@ TEST(Eval, WarpingErrorIsZeroForAnAdvectedTextureAndLargeForARandomOne) {
   moved.reset();
   const WarpingError w = warping_error(mesh, t0, t1, dt, exemplar, 4000, 7);
   EXPECT_EQ(w.samples, 4000u);
-  EXPECT_LT(w.advected, 1e-3);   // exactly advected, no distortion
-  EXPECT_GT(w.fixed, 0.1);       // the texture moved under a fixed point
-  EXPECT_GT(w.random, 0.5);      // uncorrelated colours: about 2/sqrt(pi) σ for Gaussian noise
+  EXPECT_LT(w.advected, 1e-3);  // exactly advected, no distortion
+  EXPECT_GT(w.fixed, 0.1);      // the texture moved under a fixed point
+  EXPECT_GT(w.random, 0.5);     // uncorrelated colours: about 2/sqrt(pi) σ for Gaussian noise
   // A texture unrelated to the last frame's: as bad as random.
   const TexturedFrame other(moving_grid(10, speed * dt), make_exemplar("gravel", 128, 99));
   const WarpingError r = warping_error(mesh, t0, other, dt, exemplar, 4000, 7);
@@ -150,11 +150,13 @@ TEST(Eval, ChartMaskCoversTheUvTriangles) {
 TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   test::TempDir dir;
   const std::string scene = dir.file("scene");
-  ASSERT_EQ(test::run_fluidtex("gen rotation -o " + scene + " --frames 5 --resolution 24 --exemplar gravel --exemplar-size 64"),
+  ASSERT_EQ(test::run_fluidtex("gen rotation -o " + scene +
+                               " --frames 5 --resolution 24 --exemplar gravel --exemplar-size 64"),
             0);
   const std::string out = dir.file("out");
   const std::string input = scene + "/rotation.####.ply";
-  ASSERT_EQ(test::run_fluidtex("run -i '" + input + "' -e " + scene + "/gravel.png -o " + out + " --atlas-size 256 -q"), 0);
+  ASSERT_EQ(test::run_fluidtex("run -i '" + input + "' -e " + scene + "/gravel.png -o " + out + " --atlas-size 256 -q"),
+            0);
   ASSERT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + out + " --samples 2000 -q"), 0);
   for (const char* f : {"metrics.jsonl", "summary.json", "report.html"}) {
     EXPECT_TRUE(std::filesystem::exists(out + "/eval/" + f)) << f;

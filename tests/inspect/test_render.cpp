@@ -7,11 +7,11 @@
 #include <cmath>
 #include <numbers>
 
-#include "fluidtex/util/error.h"
-#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/inspect/overlays.h"
-#include "fluidtex/util/random.h"
 #include "fluidtex/inspect/render.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/util/random.h"
 #include "test_util.h"
 
 namespace fluidtex {

@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
-#include "fluidtex/util/error.h"
 #include "fluidtex/io/frame_pattern.h"
-#include "fluidtex/tracking/options.h"
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/util/error.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -46,8 +46,8 @@ TEST(FramePattern, RejectsPatternsWithoutOrWithTwoTokens) {
 
 TEST(FramePattern, DiscoversOnlyMatchingFiles) {
   test::TempDir dir;
-  for (const char* name : {"m.0001.ply", "m.0002.ply", "m.0010.ply", "m.12345.ply", "m.001.ply",
-                           "m.00002.ply", "m.0003.obj", "n.0004.ply", "m.00a5.ply", "m.0006.ply.tmp"}) {
+  for (const char* name : {"m.0001.ply", "m.0002.ply", "m.0010.ply", "m.12345.ply", "m.001.ply", "m.00002.ply",
+                           "m.0003.obj", "n.0004.ply", "m.00a5.ply", "m.0006.ply.tmp"}) {
     test::write_file(dir.path() / name, "x");
   }
   const std::vector<int> frames = FramePattern(dir.file("m.####.ply")).discover();
@@ -130,8 +130,7 @@ TEST(Options, EveryTable3And4ParameterIsVisited) {
   std::vector<std::string> names;
   visit_options(o, [&](const char* name, auto&, const char*) { names.emplace_back(name); });
   for (const char* expected : {"radius", "plane-angle", "patch-vertex-angle", "max-distortion", "uv-scale",
-                               "max-projection", "fade-frames", "thickness", "kill-alpha",
-                               "min-vertex-quality"}) {
+                               "max-projection", "fade-frames", "thickness", "kill-alpha", "min-vertex-quality"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
 }

@@ -10,14 +10,14 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <iostream>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <sstream>
 #include <thread>
 
-#include "fluidtex/util/error.h"
 #include "fluidtex/io/mesh_io.h"
+#include "fluidtex/util/error.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -44,8 +44,10 @@ void put(std::string& out, const PlySpec& s, const std::string& type, double val
   if (s.format == "ascii") {
     std::ostringstream o;
     o.precision(17);
-    if (type == "float") o << static_cast<double>(static_cast<float>(value));
-    else o << value;
+    if (type == "float")
+      o << static_cast<double>(static_cast<float>(value));
+    else
+      o << value;
     out += o.str() + " ";
     return;
   }
@@ -55,14 +57,22 @@ void put(std::string& out, const PlySpec& s, const std::string& type, double val
     n = sizeof(v);
     std::memcpy(b, &v, sizeof(v));
   };
-  if (type == "float") store(static_cast<float>(value));
-  else if (type == "double") store(value);
-  else if (type == "uchar" || type == "uint8") store(static_cast<std::uint8_t>(value));
-  else if (type == "char" || type == "int8") store(static_cast<std::int8_t>(value));
-  else if (type == "ushort" || type == "uint16") store(static_cast<std::uint16_t>(value));
-  else if (type == "short" || type == "int16") store(static_cast<std::int16_t>(value));
-  else if (type == "uint" || type == "uint32") store(static_cast<std::uint32_t>(value));
-  else store(static_cast<std::int32_t>(value));
+  if (type == "float")
+    store(static_cast<float>(value));
+  else if (type == "double")
+    store(value);
+  else if (type == "uchar" || type == "uint8")
+    store(static_cast<std::uint8_t>(value));
+  else if (type == "char" || type == "int8")
+    store(static_cast<std::int8_t>(value));
+  else if (type == "ushort" || type == "uint16")
+    store(static_cast<std::uint16_t>(value));
+  else if (type == "short" || type == "int16")
+    store(static_cast<std::int16_t>(value));
+  else if (type == "uint" || type == "uint32")
+    store(static_cast<std::uint32_t>(value));
+  else
+    store(static_cast<std::int32_t>(value));
   if (s.format == "binary_big_endian") std::reverse(b, b + n);
   out.append(b, n);
 }
@@ -93,7 +103,7 @@ std::string make_ply(const PlySpec& s, const std::vector<Vec3>& pos, const std::
 /// 6 triangles, area 2.5, all facing +z. Values like 0.1 and 1/3 are not
 /// exact in float, so they tell float and double apart.
 struct Sample {
-  std::vector<Vec3> pos = {{0, 0, 0.1}, {1, 0, 0.1}, {1, 1, 0.1}, {0, 1, 0.1},
+  std::vector<Vec3> pos = {{0, 0, 0.1}, {1, 0, 0.1}, {1, 1, 0.1},    {0, 1, 0.1},
                            {2, 0, 0.1}, {2, 1, 0.1}, {1.5, 1.5, 0.1}};
   std::vector<Vec3> vel;
   Polygons faces = {{0, 1, 2, 3}, {1, 4, 5, 6, 2}, {3, 2, 6}};
@@ -244,8 +254,9 @@ TEST(MeshIo, VelocitiesNotRequiredGivesZeros) {
 TEST(MeshIo, ObjOnlyWithoutRequiredVelocities) {
   TempDir dir;
   const std::string path = dir.file("quad.OBJ");
-  write_file(path, "# quad and triangle\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\n"
-                   "f 1 2 3 4\nf 4 3 5\n");
+  write_file(path,
+             "# quad and triangle\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\n"
+             "f 1 2 3 4\nf 4 3 5\n");
   ReadOptions opt;
   opt.require_velocities = false;
   const FrameMesh m = read_frame(path, opt);
@@ -338,7 +349,8 @@ TEST(MeshIo, BadInputGivesOneLineErrors) {
   expect_error("nofaces.ply", make_ply(bin, s.pos, s.vel, {}), "empty mesh");
   expect_error("novertices.ply", make_ply(bin, {}, {}, {}), "empty mesh");
   // Only a zero-area triangle: nothing is left after cleaning.
-  expect_error("flat.ply", make_ply(bin, {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, std::vector<Vec3>(3, Vec3::Zero()), {{0, 1, 2}}),
+  expect_error("flat.ply",
+               make_ply(bin, {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, std::vector<Vec3>(3, Vec3::Zero()), {{0, 1, 2}}),
                "empty mesh");
   write_file(dir.file("zero.ply"), "");
   EXPECT_NE(read_error(dir.file("zero.ply")).find("empty"), std::string::npos);
@@ -399,8 +411,8 @@ TEST(MeshClean, MergeToleranceIsRelativeToBoundingBox) {
 TEST(MeshClean, NonManifoldEdgeIsCountedAndVelocitiesKept) {
   TempDir dir;
   // Three triangles on edge 0-1 (plus one more on a separate piece).
-  const std::vector<Vec3> pos = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1},
-                                 {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
+  const std::vector<Vec3> pos = {{0, 0, 0},   {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0},
+                                 {0.5, 0, 1}, {5, 5, 5}, {6, 5, 5},   {5, 6, 5}};
   std::vector<Vec3> vel;
   for (int i = 0; i < 8; ++i) vel.emplace_back(i, 10 * i, -i);
   PlySpec spec;
@@ -452,8 +464,8 @@ TEST(MeshIo, RealBlenderDropSequence) {
     const auto t0 = std::chrono::steady_clock::now();
     CleanReport report;
     const FrameMesh cleaned = read_frame(path, {}, &report);
-    slowest_ms = std::max(slowest_ms, std::chrono::duration<double, std::milli>(
-                                          std::chrono::steady_clock::now() - t0).count());
+    slowest_ms =
+        std::max(slowest_ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     EXPECT_GT(cleaned.num_faces(), 0u) << name;
     if (frame % 16 != 1) continue;
     // Compare with a direct reading of the little-endian body: float x y z vx vy vz.

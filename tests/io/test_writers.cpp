@@ -14,10 +14,10 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
-#include "fluidtex/util/error.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/stats.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/util/error.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -44,9 +44,7 @@ double srgb_encode(double l) {
   l = std::clamp(l, 0.0, 1.0);
   return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
 }
-double srgb_decode(double s) {
-  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-}
+double srgb_decode(double s) { return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4); }
 
 /// A deterministic image with values spread over [0, 1]; the last channel of
 /// a 2- or 4-channel image is alpha.
@@ -54,8 +52,7 @@ Image test_image(int w, int h, int c) {
   Image img{w, h, c, std::vector<float>(static_cast<size_t>(w) * h * c)};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      for (int k = 0; k < c; ++k)
-        img.at(x, y, k) = static_cast<float>(((x * 7 + y * 13 + k * 29) % 101) / 100.0);
+      for (int k = 0; k < c; ++k) img.at(x, y, k) = static_cast<float>(((x * 7 + y * 13 + k * 29) % 101) / 100.0);
   return img;
 }
 
@@ -72,13 +69,11 @@ RawImage read_raw(const std::string& path) {
   if (!in) return raw;
   raw.spec = in->spec();
   raw.pixels.resize(raw.spec.image_pixels() * raw.spec.nchannels);
-  EXPECT_TRUE(in->read_image(0, 0, 0, raw.spec.nchannels, OIIO::TypeDesc::FLOAT,
-                             raw.pixels.data()));
+  EXPECT_TRUE(in->read_image(0, 0, 0, raw.spec.nchannels, OIIO::TypeDesc::FLOAT, raw.pixels.data()));
   return raw;
 }
 
-void write_raw_png8(const std::string& path, int w, int h, int c,
-                    const std::vector<std::uint8_t>& data) {
+void write_raw_png8(const std::string& path, int w, int h, int c, const std::vector<std::uint8_t>& data) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out);
   OIIO::ImageSpec spec(w, h, c, OIIO::TypeDesc::UINT8);
@@ -158,7 +153,9 @@ void expect_quantised_round_trip(const std::string& ext, OIIO::TypeDesc format, 
   }
 }
 
-TEST(ImageIoRoundTrip, Png8WithinQuantisation) { expect_quantised_round_trip(".png", OIIO::TypeDesc::UINT8, 255, 13, 11); }
+TEST(ImageIoRoundTrip, Png8WithinQuantisation) {
+  expect_quantised_round_trip(".png", OIIO::TypeDesc::UINT8, 255, 13, 11);
+}
 
 TEST(ImageIoRoundTrip, Tiff16WithinQuantisation) {
   expect_quantised_round_trip(".tif", OIIO::TypeDesc::UINT16, 65535, 10, 12);
@@ -305,13 +302,13 @@ TEST(ImageIoDeterminism, SameImageSameBytes) {
 /// Vertices 1 and 4 carry one uv per chart: 8 distinct (vertex, uv) pairs.
 UVMesh seam_mesh() {
   UVMesh m;
-  m.positions = {Vec3(0, 0, 0),          Vec3(1, 0, 0),   Vec3(2, 0, 0.25),
+  m.positions = {Vec3(0, 0, 0),           Vec3(1, 0, 0),   Vec3(2, 0, 0.25),
                  Vec3(0, 1, 0.123456789), Vec3(1, 1, 0.5), Vec3(2, 1, -1e-3)};
   m.normals.assign(6, Vec3(0, 0, 1));
   m.normals[2] = Vec3(0.6, 0, 0.8);
   m.triangles = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}};
-  m.uvs = {Vec2(0.0, 0.0), Vec2(0.4, 0.0), Vec2(0.4, 0.4), Vec2(0.0, 0.4),     // chart A
-           Vec2(0.6, 0.6), Vec2(1.0, 0.6), Vec2(1.0, 1.0), Vec2(0.6, 1.0)};    // chart B
+  m.uvs = {Vec2(0.0, 0.0), Vec2(0.4, 0.0), Vec2(0.4, 0.4), Vec2(0.0, 0.4),   // chart A
+           Vec2(0.6, 0.6), Vec2(1.0, 0.6), Vec2(1.0, 1.0), Vec2(0.6, 1.0)};  // chart B
   m.uv_triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
   return m;
 }
@@ -328,16 +325,14 @@ TEST(UvMeshWriterObj, RoundTripThroughOpenMesh) {
   OMesh om;
   om.request_halfedge_texcoords2D();
   om.request_vertex_normals();
-  OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord |
-                              OpenMesh::IO::Options::VertexNormal;
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord | OpenMesh::IO::Options::VertexNormal;
   ASSERT_TRUE(OpenMesh::IO::read_mesh(om, path, opt));
   ASSERT_EQ(om.n_vertices(), m.positions.size());
   ASSERT_EQ(om.n_faces(), m.triangles.size());
   EXPECT_TRUE(opt.face_has_texcoord());
   for (size_t v = 0; v < m.positions.size(); ++v) {
     const auto p = om.point(OMesh::VertexHandle(static_cast<int>(v)));
-    for (int i = 0; i < 3; ++i)
-      EXPECT_EQ(p[i], static_cast<float>(m.positions[v][i])) << v;
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(p[i], static_cast<float>(m.positions[v][i])) << v;
   }
   for (size_t f = 0; f < m.triangles.size(); ++f) {
     int corners = 0;
@@ -424,9 +419,8 @@ TEST(UvMeshWriterPly, RoundTripThroughOpenMesh) {
   OMesh om;
   om.request_vertex_texcoords2D();
   om.request_vertex_normals();
-  OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexTexCoord |
-                              OpenMesh::IO::Options::VertexNormal |
-                              OpenMesh::IO::Options::Binary;
+  OpenMesh::IO::Options opt =
+      OpenMesh::IO::Options::VertexTexCoord | OpenMesh::IO::Options::VertexNormal | OpenMesh::IO::Options::Binary;
   ASSERT_TRUE(OpenMesh::IO::read_mesh(om, path, opt));
   ASSERT_EQ(om.n_vertices(), pairs.size());
   ASSERT_EQ(om.n_faces(), m.triangles.size());
@@ -459,8 +453,7 @@ TEST(UvMeshWriterPly, RoundTripThroughOpenMesh) {
 TEST(UvMeshWriterPly, NonManifoldFramePassesThrough) {
   // Three triangles on one edge (non-manifold) and an isolated vertex.
   UVMesh m;
-  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1),
-                 Vec3(5, 5, 5)};
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(5, 5, 5)};
   m.normals.assign(6, Vec3(0, 0, 1));
   m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
   m.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(0.5, 0.5), Vec2(1, 1)};
@@ -475,9 +468,8 @@ TEST(UvMeshWriterPly, NonManifoldFramePassesThrough) {
   EXPECT_EQ(ply.size(), header + 6 * 8 * 4 + 3 * 13);
   const std::string obj = read_file(dir.file("nm.obj"));
   const auto obj_lines = lines_of(obj);
-  EXPECT_EQ(std::count_if(obj_lines.begin(), obj_lines.end(),
-                          [](const std::string& l) { return l.rfind("f ", 0) == 0; }),
-            3);
+  EXPECT_EQ(
+      std::count_if(obj_lines.begin(), obj_lines.end(), [](const std::string& l) { return l.rfind("f ", 0) == 0; }), 3);
 }
 
 TEST(UvMeshWriterErrors, UnsupportedExtensionAndBadMesh) {
@@ -549,8 +541,7 @@ TEST(StatsWriter, AddRewritesAndAppendExistingKeepsLines) {
     StatsWriter w(path);
     w.add(sample_stats(1));
     w.add(sample_stats(2));
-    EXPECT_EQ(read_file(path), to_json_line(sample_stats(1)) + "\n" +
-                                   to_json_line(sample_stats(2)) + "\n");
+    EXPECT_EQ(read_file(path), to_json_line(sample_stats(1)) + "\n" + to_json_line(sample_stats(2)) + "\n");
   }
   {
     StatsWriter w(path, /*append_existing=*/true);

@@ -12,8 +12,8 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/job/pipeline.h"
+#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
 
@@ -51,8 +51,8 @@ TEST(Golden, SmallRotationAtlasesMatch) {
     OIIO::ImageBuf a(produced.string()), b((golden / name).string());
     const auto result = OIIO::ImageBufAlgo::compare(a, b, 2e-3f, 2e-3f);
     EXPECT_FALSE(result.error) << name;
-    EXPECT_LE(result.nfail, static_cast<OIIO::imagesize_t>(a.spec().width * a.spec().height / 1000)) << name
-        << ": max error " << result.maxerror << " at " << result.maxx << "," << result.maxy;
+    EXPECT_LE(result.nfail, static_cast<OIIO::imagesize_t>(a.spec().width * a.spec().height / 1000))
+        << name << ": max error " << result.maxerror << " at " << result.maxx << "," << result.maxy;
   }
 }
 

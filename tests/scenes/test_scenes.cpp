@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/util/error.h"
-#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/geometry/mesh.h"
+#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
+#include "fluidtex/util/error.h"
 #include "test_util.h"
 
 namespace fluidtex {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <vector>
 
-#include "fluidtex/texture/atlas.h"
-#include "fluidtex/tracking/patch.h"
 #include "fluidtex/geometry/surface.h"
+#include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/patch.h"
 #include "mesh_fixtures.h"
 
 namespace fluidtex::test {

@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <numbers>
 
-#include "fluidtex/texture/atlas.h"
-#include "fluidtex/util/error.h"
-#include "fluidtex/scenes/exemplar_gen.h"
-#include "fluidtex/texture/flowmap.h"
 #include "fluidtex/job/pipeline.h"
+#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
+#include "fluidtex/texture/atlas.h"
+#include "fluidtex/texture/flowmap.h"
+#include "fluidtex/util/error.h"
 #include "mesh_fixtures.h"
 #include "test_util.h"
 
@@ -42,7 +42,8 @@ TEST(FlowMap, UniformFlowMovesTheTextureWithIt) {
   const int steps = 5;
   for (int k = 0; k < steps; ++k) {
     const int n = k % 2 == 0 ? 20 : 23;
-    auto mesh = std::make_shared<const FrameMesh>(test::flat_grid(n, 2.0, 0.0, -1.0, -1.0, [&](const Vec3&) { return v; }));
+    auto mesh =
+        std::make_shared<const FrameMesh>(test::flat_grid(n, 2.0, 0.0, -1.0, -1.0, [&](const Vec3&) { return v; }));
     const FlowMapStep step = advector.step(mesh, dt);
     EXPECT_EQ(step.step, k);
     EXPECT_EQ(step.reset[0], k == 0);
@@ -71,7 +72,8 @@ TEST(FlowMap, ResetsReturnToRestOnTheirPhase) {
   const Vec3 v(0.5, 0.0, 0.0);
   FlowMapAdvector advector(settings(4, 0.1));
   for (int k = 0; k < 9; ++k) {
-    auto mesh = std::make_shared<const FrameMesh>(test::flat_grid(12, 2.0, 0.0, -1.0, -1.0, [&](const Vec3&) { return v; }));
+    auto mesh =
+        std::make_shared<const FrameMesh>(test::flat_grid(12, 2.0, 0.0, -1.0, -1.0, [&](const Vec3&) { return v; }));
     const FlowMapStep step = advector.step(mesh, 1.0 / 24.0);
     EXPECT_EQ(step.reset[0], k % 4 == 0) << k;
     EXPECT_EQ(step.reset[1], k == 0 || k % 4 == 2) << k;
@@ -95,7 +97,7 @@ TEST(FlowMap, WeightsSumToOneAndVanishAtReset) {
       EXPECT_GE(w[1], 0.0);
       EXPECT_EQ(age[0], step % period);
       if (step % period == 0) EXPECT_EQ(w[0], 0.0) << period << " " << step;  // A resets: invisible
-      if (age[1] == 0) EXPECT_EQ(w[1], 0.0) << period << " " << step;        // B resets: invisible
+      if (age[1] == 0) EXPECT_EQ(w[1], 0.0) << period << " " << step;         // B resets: invisible
       if (period % 2 == 0) {
         const double s = std::sin(std::numbers::pi * (step % period) / period);
         EXPECT_NEAR(w[0], s * s, 1e-12);
@@ -164,10 +166,14 @@ TEST(FlowMap, SynthesisBlendsBothPhasesOverEveryChartTexel) {
 TEST(FlowMap, RunWritesEveryFrameAndIsThreadIndependent) {
   test::TempDir dir;
   std::string out;
-  ASSERT_EQ(run_fluidtex("gen merge -o " + q(dir.str()) + " --frames 3 --resolution 20 --exemplar gravel "
-                         "--exemplar-size 64", &out), 0) << out;
-  const std::string base = "run -q --method flowmap --flowmap-period 4 -i " + q(dir.file("merge.####.ply")) +
-                           " -e " + q(dir.file("gravel.png")) + " --atlas-size 128 --aov weight ";
+  ASSERT_EQ(run_fluidtex("gen merge -o " + q(dir.str()) +
+                             " --frames 3 --resolution 20 --exemplar gravel "
+                             "--exemplar-size 64",
+                         &out),
+            0)
+      << out;
+  const std::string base = "run -q --method flowmap --flowmap-period 4 -i " + q(dir.file("merge.####.ply")) + " -e " +
+                           q(dir.file("gravel.png")) + " --atlas-size 128 --aov weight ";
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t1")) + " --threads 1", &out), 0) << out;
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("t2")) + " --threads 2", &out), 0) << out;
   const fs::path o = dir.path() / "t1";

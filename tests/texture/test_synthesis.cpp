@@ -6,9 +6,9 @@
 #include <map>
 #include <string>
 
-#include "fluidtex/texture/atlas.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
+#include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/tracker.h"
 #include "mesh_fixtures.h"
@@ -191,8 +191,10 @@ TEST(Synthesis, CoverageTailBlendsOnlyWhereNoDiskCovers) {
       ++corner;
       EXPECT_EQ(r.count.pixels[i], 1.0f);
       float expect[3];
-      if (da < 0.25) exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
-      else exemplar.sample(0.6 + q.x() - 1.0, 0.1 + q.y() - 1.0, expect);
+      if (da < 0.25)
+        exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
+      else
+        exemplar.sample(0.6 + q.x() - 1.0, 0.1 + q.y() - 1.0, expect);
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect[c]));
     } else if (da > 0.3 + 0.18 && db > 0.3 + 0.18) {  // vertex weights interpolate over 0.125-cells (diagonal < 0.18)
       ++middle;
@@ -282,9 +284,9 @@ TEST(Synthesis, RasterAgreesWithExactAndCoversGeneratedScenes) {
       for (int dy = -2; dy <= 2 && interior; ++dy) {
         for (int dx = -2; dx <= 2 && interior; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          interior = xx >= 0 && yy >= 0 && xx < size && yy < size &&
-                     map.face[static_cast<std::size_t>(yy) * size + xx] >= 0 &&
-                     atlas.face_chart[map.face[static_cast<std::size_t>(yy) * size + xx]] == atlas.face_chart[map.face[i]];
+          interior =
+              xx >= 0 && yy >= 0 && xx < size && yy < size && map.face[static_cast<std::size_t>(yy) * size + xx] >= 0 &&
+              atlas.face_chart[map.face[static_cast<std::size_t>(yy) * size + xx]] == atlas.face_chart[map.face[i]];
         }
       }
       if (!interior) continue;

@@ -12,12 +12,12 @@
 #include <optional>
 #include <set>
 
+#include "fluidtex/io/sequence.h"
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_locator.h"
-#include "fluidtex/util/random.h"
-#include "fluidtex/io/sequence.h"
 #include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/random.h"
 #include "mesh_fixtures.h"
 
 namespace fluidtex {
@@ -140,7 +140,8 @@ struct RealCut {
 
 /// Tracks frames [1, frames] of a shared real cache; skips when it is absent.
 std::optional<RealCut> track_real(const std::string& scene, int frames, TrackerSettings settings = {}) {
-  const std::filesystem::path dir = std::filesystem::path(FLUIDTEX_SOURCE_DIR) / ".." / "shared" / "realdata" / ("blender-" + scene);
+  const std::filesystem::path dir =
+      std::filesystem::path(FLUIDTEX_SOURCE_DIR) / ".." / "shared" / "realdata" / ("blender-" + scene);
   if (!std::filesystem::exists(dir)) return std::nullopt;
   InputOptions in;
   in.pattern = (dir / (scene + ".####.ply")).string();
@@ -241,9 +242,11 @@ TEST(RetireCauses, CountsAndAgeBuckets) {
   EXPECT_EQ(age_bucket(31), 4);
   EXPECT_EQ(age_bucket(32), 5);
   EXPECT_EQ(age_bucket(1000), 5);
-  const auto counts = retired_counts({{1, RetireCause::Quality, 3}, {2, RetireCause::Quality, 40}, {5, RetireCause::TooClose, 0}});
+  const auto counts =
+      retired_counts({{1, RetireCause::Quality, 3}, {2, RetireCause::Quality, 40}, {5, RetireCause::TooClose, 0}});
   auto get = [&](const std::string& k) {
-    for (const auto& [key, n] : counts) if (key == k) return n;
+    for (const auto& [key, n] : counts)
+      if (key == k) return n;
     ADD_FAILURE() << "no key " << k;
     return -1.0;
   };

@@ -7,15 +7,15 @@
 
 #include <oneapi/tbb/global_control.h>
 
-#include "fluidtex/tracking/advection.h"
 #include "fluidtex/geometry/distortion.h"
-#include "fluidtex/util/error.h"
+#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/fading.h"
 #include "fluidtex/tracking/patch_builder.h"
-#include "fluidtex/tracking/poisson.h"
 #include "fluidtex/tracking/patch_locator.h"
-#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/tracking/poisson.h"
 #include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/error.h"
 #include "mesh_fixtures.h"
 #include "test_util.h"
 
@@ -44,8 +44,8 @@ TEST(PoissonCriterion, PlaneTestAndCriteria) {
   EXPECT_TRUE(same_plane(up, tilted, 0.5));
   EXPECT_FALSE(same_plane(up, Vec3(1, 0, 0.2).normalized(), 0.5));
   EXPECT_TRUE(rejects(p, up, Vec3(0.2, 0, 0), up, 0.5, params));
-  EXPECT_FALSE(rejects(p, up, Vec3(0.2, 0, 0), down, 0.5, params));   // other side of a sheet
-  EXPECT_FALSE(rejects(p, up, Vec3(0, 0, 0.2), up, 0.5, params));     // a layer above, beyond cs
+  EXPECT_FALSE(rejects(p, up, Vec3(0.2, 0, 0), down, 0.5, params));  // other side of a sheet
+  EXPECT_FALSE(rejects(p, up, Vec3(0, 0, 0.2), up, 0.5, params));    // a layer above, beyond cs
   params.criterion = Criterion::Plane;
   EXPECT_TRUE(rejects(p, up, Vec3(0, 0, 0.2), up, 0.5, params));
   EXPECT_FALSE(rejects(p, up, Vec3(0.2, 0, 0), down, 0.5, params));
@@ -61,7 +61,8 @@ TEST(Distortion, KnownAffineMaps) {
   EXPECT_NEAR(triangle_distortion(rest, a, b, c), 1.0, 1e-12);
   // A rigid motion in 3D is still an isometry.
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-  EXPECT_NEAR(triangle_distortion(rest, R * a + Vec3(5, 1, 2), R * b + Vec3(5, 1, 2), R * c + Vec3(5, 1, 2)), 1.0, 1e-12);
+  EXPECT_NEAR(triangle_distortion(rest, R * a + Vec3(5, 1, 2), R * b + Vec3(5, 1, 2), R * c + Vec3(5, 1, 2)), 1.0,
+              1e-12);
   const Eigen::Matrix3d stretch = Vec3(2, 1, 1).asDiagonal();
   EXPECT_NEAR(triangle_distortion(rest, stretch * a, stretch * b, stretch * c), 2.0, 1e-12);
   const Eigen::Matrix3d shrink = Vec3(1, 0.5, 1).asDiagonal();
@@ -144,7 +145,9 @@ TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {
   double area3 = 0, area_uv = 0;
   for (std::size_t t = 0; t < patch->triangles.size(); ++t) {
     const Tri& tri = patch->triangles[t];
-    area3 += 0.5 * (patch->positions[tri[1]] - patch->positions[tri[0]]).cross(patch->positions[tri[2]] - patch->positions[tri[0]]).norm();
+    area3 += 0.5 * (patch->positions[tri[1]] - patch->positions[tri[0]])
+                       .cross(patch->positions[tri[2]] - patch->positions[tri[0]])
+                       .norm();
     const Vec2 e1 = patch->uvs[tri[1]] - patch->uvs[tri[0]], e2 = patch->uvs[tri[2]] - patch->uvs[tri[0]];
     area_uv += 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
     // uv is an isometry of a flat patch: uv distances equal 3D distances.
@@ -211,10 +214,10 @@ TEST(Weights, Eq4SpatialTimesTemporal) {
   update_weights(p, o);
   // Eq. 4 plus the coverage tail ε·(1 − r/((1 + β)d)), (1 + β)d = 0.16.
   const double eps = kCoverageTail;
-  EXPECT_NEAR(p.weight[0], (1 + eps) * 0.5, 1e-7);                                // centre: K_S = 1
+  EXPECT_NEAR(p.weight[0], (1 + eps) * 0.5, 1e-7);                                    // centre: K_S = 1
   EXPECT_NEAR(p.weight[1], ((1 - 0.5) + eps * (1 - 0.05 / 0.16)) * 0.5 * 0.5, 1e-7);  // half way, Q_V = 0.5
-  EXPECT_EQ(p.weight[2], 0.0f);                                                   // beyond (1 + β)d
-  EXPECT_EQ(p.weight[3], 0.0f);                                                   // border: d_V = 0
+  EXPECT_EQ(p.weight[2], 0.0f);                                                       // beyond (1 + β)d
+  EXPECT_EQ(p.weight[3], 0.0f);                                                       // border: d_V = 0
 }
 
 // --- Sampling ------------------------------------------------------------------
@@ -481,7 +484,8 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   std::vector<PatchHit> hits;
   int covered = 0, bare = 0;
   for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {
-    for (const Vec3& b : {Vec3(Vec3::Constant(1.0 / 3.0)), Vec3(0.8, 0.1, 0.1), Vec3(0.05, 0.05, 0.9), Vec3(0.5, 0.5, 0.0)}) {
+    for (const Vec3& b :
+         {Vec3(Vec3::Constant(1.0 / 3.0)), Vec3(0.8, 0.1, 0.1), Vec3(0.05, 0.05, 0.9), Vec3(0.5, 0.5, 0.0)}) {
       const SurfacePoint s = surface.at(static_cast<int>(f), b);
       const Vec3 n = surface.normal_at(s);
       locator.locate(s.position, n, hits);

@@ -23,16 +23,14 @@ struct CleanOptions {
 };
 
 struct CleanReport {
-  std::size_t merged_vertices = 0;       ///< vertices merged into another
-  std::size_t degenerate_faces = 0;      ///< zero-area or repeated-index triangles dropped
-  std::size_t duplicate_faces = 0;       ///< same three vertices as an earlier triangle
-  std::size_t unreferenced_vertices = 0; ///< vertices used by no triangle, dropped
-  std::size_t nonmanifold_edges = 0;     ///< edges with more than two triangles (kept)
-  std::size_t boundary_edges = 0;        ///< edges with one triangle
-  int components = 0;                    ///< connected components after cleaning
-  bool changed() const {
-    return merged_vertices + degenerate_faces + duplicate_faces + unreferenced_vertices > 0;
-  }
+  std::size_t merged_vertices = 0;        ///< vertices merged into another
+  std::size_t degenerate_faces = 0;       ///< zero-area or repeated-index triangles dropped
+  std::size_t duplicate_faces = 0;        ///< same three vertices as an earlier triangle
+  std::size_t unreferenced_vertices = 0;  ///< vertices used by no triangle, dropped
+  std::size_t nonmanifold_edges = 0;      ///< edges with more than two triangles (kept)
+  std::size_t boundary_edges = 0;         ///< edges with one triangle
+  int components = 0;                     ///< connected components after cleaning
+  bool changed() const { return merged_vertices + degenerate_faces + duplicate_faces + unreferenced_vertices > 0; }
   /// One line: "clean" when nothing was changed and the mesh is one closed
   /// manifold piece, else e.g. "merged 3 vertices, dropped 2 degenerate and
   /// 1 duplicate faces, 0 unreferenced vertices; 4 non-manifold edges,

@@ -18,10 +18,10 @@ namespace fluidtex {
 
 /// A point on the surface: triangle and barycentric coordinates.
 struct SurfacePoint {
-  int face = -1;                  ///< triangle index, -1 when invalid
-  Vec3 bary = Vec3::Zero();       ///< barycentric coordinates in that triangle
-  Vec3 position = Vec3::Zero();   ///< the point itself
-  double distance = 0.0;          ///< distance from the query point (projection only)
+  int face = -1;                 ///< triangle index, -1 when invalid
+  Vec3 bary = Vec3::Zero();      ///< barycentric coordinates in that triangle
+  Vec3 position = Vec3::Zero();  ///< the point itself
+  double distance = 0.0;         ///< distance from the query point (projection only)
   bool valid() const { return face >= 0; }
 };
 
@@ -51,7 +51,7 @@ class SurfaceIndex {
   /// Barycentric blend of the vertex velocities.
   Vec3 velocity_at(const SurfacePoint& s) const;
 
-  const std::vector<Vec3>& face_normals() const { return face_normals_; }     ///< unit
+  const std::vector<Vec3>& face_normals() const { return face_normals_; }  ///< unit
   const std::vector<double>& face_areas() const { return face_areas_; }
   const std::vector<Vec3>& vertex_normals() const { return vertex_normals_; }  ///< unit
   /// Per face, the face across each edge (edge k joins corners k and k+1);

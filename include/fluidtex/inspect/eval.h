@@ -15,14 +15,14 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/texture/exemplar.h"
-#include "fluidtex/io/image_io.h"
 #include "fluidtex/geometry/mesh.h"
-#include "fluidtex/tracking/options.h"
-#include "fluidtex/job/pipeline.h"
 #include "fluidtex/inspect/render.h"
-#include "fluidtex/util/report.h"
+#include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/texture/exemplar.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/util/report.h"
 
 namespace fluidtex {
 
@@ -88,14 +88,14 @@ struct FlowError {
 FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask);
 
 struct EvalOptions {
-  std::string run_dir;          ///< -o: the finished run's folder
-  InputOptions input;           ///< -i: the input sequence the run used
-  std::string exemplar;         ///< -e; empty = the run's (from OUT/job.toml)
-  int samples = 20000;          ///< warping-error sample points per frame pair
+  std::string run_dir;   ///< -o: the finished run's folder
+  InputOptions input;    ///< -i: the input sequence the run used
+  std::string exemplar;  ///< -e; empty = the run's (from OUT/job.toml)
+  int samples = 20000;   ///< warping-error sample points per frame pair
   std::uint64_t seed = 1;
-  int flow_width = 512;         ///< render width for the optical-flow metric (0 = off)
-  int report_images = 4;        ///< preview images in the report
-  RenderOptions render;         ///< camera of the flow renders and report images
+  int flow_width = 512;   ///< render width for the optical-flow metric (0 = off)
+  int report_images = 4;  ///< preview images in the report
+  RenderOptions render;   ///< camera of the flow renders and report images
 };
 
 struct EvalSummary {

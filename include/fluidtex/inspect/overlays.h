@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/tracking/fading.h"
 #include "fluidtex/geometry/mesh.h"
-#include "fluidtex/tracking/patch.h"
 #include "fluidtex/inspect/render.h"
+#include "fluidtex/tracking/fading.h"
+#include "fluidtex/tracking/patch.h"
 
 namespace fluidtex {
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/io/image_io.h"
 #include "fluidtex/geometry/mesh.h"
+#include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
 
 namespace fluidtex {
@@ -41,10 +41,10 @@ struct Camera {
 
   // Perspective: an orthonormal frame (right, up, forward) at the eye.
   Vec3 eye = Vec3::Zero(), target = Vec3(0, 0, -1);
-  double fov_deg = 40.0;                ///< vertical field of view
-  double focal = 1.0;                   ///< focal length in pixels
+  double fov_deg = 40.0;  ///< vertical field of view
+  double focal = 1.0;     ///< focal length in pixels
   Vec3 right = Vec3::UnitX(), up = Vec3::UnitY(), forward = -Vec3::UnitZ();
-  double near = 1e-6;                   ///< points with depth ≤ near are behind the camera
+  double near = 1e-6;  ///< points with depth ≤ near are behind the camera
 
   /// An orthographic camera over the region [min_u, max_u] × [min_v, max_v]
   /// of the view's screen axes; height follows the region's aspect.
@@ -69,17 +69,17 @@ struct Camera {
 };
 
 struct RenderOptions {
-  int width = 768;               ///< image width
+  int width = 768;  ///< image width
   View view = View::Top;
-  bool shade = true;             ///< Lambert shading with a light over the camera
+  bool shade = true;  ///< Lambert shading with a light over the camera
   /// Orthographic region to frame (scene units, the two screen axes); empty =
   /// the mesh's bounds plus 3%. The image height follows the framing.
   double min_u = 0, min_v = 0, max_u = 0, max_v = 0;
   /// Perspective camera (replaces the orthographic view when set).
   bool perspective = false;
   Vec3 eye = Vec3::Zero(), target = Vec3::Zero();
-  double fov_deg = 40.0;         ///< vertical field of view, degrees
-  int height = 0;                ///< perspective image height; 0 = width·3/4
+  double fov_deg = 40.0;  ///< vertical field of view, degrees
+  int height = 0;         ///< perspective image height; 0 = width·3/4
 };
 
 /// `options` with the orthographic framing fixed to the bounds (plus 3%) of
@@ -114,8 +114,8 @@ struct GBuffer {
 GBuffer rasterize(const std::vector<Vec3>& positions, const std::vector<Tri>& triangles, const Camera& camera);
 
 struct RenderResult {
-  Image color;       ///< linear RGB, background dark grey
-  GBuffer gbuffer;   ///< face indices into the mesh's triangles
+  Image color;      ///< linear RGB, background dark grey
+  GBuffer gbuffer;  ///< face indices into the mesh's triangles
   Camera camera;
 };
 

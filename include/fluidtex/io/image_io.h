@@ -61,7 +61,6 @@ struct ImageWriteOptions {
 /// InputError for an unsupported extension or depth (before anything is
 /// created), InternalError when the buffer does not match its size or writing
 /// fails.
-void write_image(const std::string& path, const Image& image,
-                 const ImageWriteOptions& options = {});
+void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options = {});
 
 }  // namespace fluidtex

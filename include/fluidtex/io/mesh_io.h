@@ -39,7 +39,6 @@ struct ReadOptions {
 /// receives what cleaning did; faces with fewer than three corners count as
 /// degenerate. Safe to call from several threads (the OpenMesh parse itself
 /// is serialised: its readers are process-wide singletons).
-FrameMesh read_frame(const std::string& path, const ReadOptions& options = {},
-                     CleanReport* report = nullptr);
+FrameMesh read_frame(const std::string& path, const ReadOptions& options = {}, CleanReport* report = nullptr);
 
 }  // namespace fluidtex

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/geometry/mesh_clean.h"
+#include "fluidtex/io/frame_pattern.h"
 
 namespace fluidtex {
 

@@ -21,10 +21,10 @@ namespace fluidtex {
 
 struct UVMesh {
   std::vector<Vec3> positions;
-  std::vector<Vec3> normals;     ///< per vertex (same indexing as positions)
-  std::vector<Tri> triangles;    ///< into positions
-  std::vector<Vec2> uvs;         ///< atlas coordinates in [0,1]², v up (OBJ convention)
-  std::vector<Tri> uv_triangles; ///< per corner, into uvs; same count as triangles
+  std::vector<Vec3> normals;      ///< per vertex (same indexing as positions)
+  std::vector<Tri> triangles;     ///< into positions
+  std::vector<Vec2> uvs;          ///< atlas coordinates in [0,1]², v up (OBJ convention)
+  std::vector<Tri> uv_triangles;  ///< per corner, into uvs; same count as triangles
 };
 
 /// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`, 1-based), atomically.
@@ -33,8 +33,7 @@ struct UVMesh {
 /// A relative `mtl_image` is written as given (it should be relative to the
 /// OBJ's folder, usually the atlas's file name); an absolute one is made
 /// relative to the OBJ's folder.
-void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh,
-                       const std::string& mtl_image = {});
+void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::string& mtl_image = {});
 
 /// Writes a binary little-endian PLY with per-vertex `float x y z nx ny nz u v`
 /// and `list uchar int vertex_indices`, atomically. Vertices are split: one

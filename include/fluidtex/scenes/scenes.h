@@ -34,8 +34,8 @@
 namespace fluidtex {
 
 struct SceneOptions {
-  int frames = 48;        ///< number of frames written (1..frames)
-  double fps = 24.0;      ///< frame rate the velocities refer to
+  int frames = 48;    ///< number of frames written (1..frames)
+  double fps = 24.0;  ///< frame rate the velocities refer to
   /// Mesh density: cells across the scene's extent (2D: grid cells across the
   /// domain; 3D: voxels across the domain). Face counts grow as resolution²
   /// for all scenes.
@@ -51,8 +51,7 @@ FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptio
 
 /// Writes frames 1..options.frames as binary PLY (`x y z vx vy vz`, float)
 /// to `dir/<scene>.####.ply`; returns the pattern written.
-std::string write_scene(const std::string& scene, const std::string& dir,
-                        const SceneOptions& options);
+std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options);
 
 /// Writes one frame as binary little-endian PLY with float `x y z vx vy vz`,
 /// atomically (used by `gen` and by tests).

@@ -24,28 +24,28 @@
 namespace fluidtex {
 
 struct AtlasOptions {
-  int size = 2048;              ///< atlas width = height, texels
-  int gutter = 4;               ///< empty texels around each chart (filled by dilation)
-  double normal_cone = 0.85;    ///< faces join a chart while N_f·N_seed > this
+  int size = 2048;                     ///< atlas width = height, texels
+  int gutter = 4;                      ///< empty texels around each chart (filled by dilation)
+  double normal_cone = 0.85;           ///< faces join a chart while N_f·N_seed > this
   std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
-  double max_stretch = 1.5;     ///< charts with a larger mean area stretch are cut smaller
-  double min_fill = 0.6;        ///< charts covering less of their bounding box are cut smaller (packing)...
-  std::size_t min_fill_faces = 64;  ///< ...unless they have at most this many faces
+  double max_stretch = 1.5;            ///< charts with a larger mean area stretch are cut smaller
+  double min_fill = 0.6;               ///< charts covering less of their bounding box are cut smaller (packing)...
+  std::size_t min_fill_faces = 64;     ///< ...unless they have at most this many faces
 
   void validate() const;  ///< InputError for a bad value
 };
 
 struct Chart {
-  std::vector<int> faces;          ///< surface faces, in growth order
-  Eigen::Vector2i origin{0, 0};    ///< lower-left texel of its rectangle (gutter included)
-  Eigen::Vector2i extent{0, 0};    ///< rectangle size in texels (gutter included)
-  double area3 = 0.0;              ///< 3D area
-  double stretch = 1.0;            ///< area-weighted mean of max(a_uv/a_3d, a_3d/a_uv) (1 = no area distortion)
+  std::vector<int> faces;        ///< surface faces, in growth order
+  Eigen::Vector2i origin{0, 0};  ///< lower-left texel of its rectangle (gutter included)
+  Eigen::Vector2i extent{0, 0};  ///< rectangle size in texels (gutter included)
+  double area3 = 0.0;            ///< 3D area
+  double stretch = 1.0;          ///< area-weighted mean of max(a_uv/a_3d, a_3d/a_uv) (1 = no area distortion)
 };
 
 struct Atlas {
   int size = 0;
-  double texels_per_unit = 0.0;    ///< texel density (texels per scene unit)
+  double texels_per_unit = 0.0;  ///< texel density (texels per scene unit)
   std::vector<Chart> charts;
   std::vector<int> face_chart;                 ///< chart of each surface face
   std::vector<std::array<Vec2, 3>> corner_px;  ///< per face, corner positions in texel units (x right, y down)

@@ -37,10 +37,10 @@
 #include <utility>
 #include <vector>
 
-#include "fluidtex/texture/exemplar.h"
-#include "fluidtex/tracking/options.h"
 #include "fluidtex/geometry/surface.h"
+#include "fluidtex/texture/exemplar.h"
 #include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/options.h"
 
 namespace fluidtex {
 
@@ -59,7 +59,7 @@ TexturingMethod texturing_method_from_string(const std::string& s);
 Axis axis_from_string(const std::string& s);
 
 struct FlowMapOptions {
-  int period = 16;     ///< N: frames between two resets of a phase (>= 2)
+  int period = 16;  ///< N: frames between two resets of a phase (>= 2)
   /// The rest uv is the position projected onto the plane perpendicular to
   /// this axis. z: the generated scenes are flat in z = 0 or have z up.
   Axis axis = Axis::Z;
@@ -94,8 +94,8 @@ struct FlowMapSettings {
 };
 
 struct FlowMapStep {
-  int step = 0;                     ///< 0 on the first frame
-  std::array<bool, 2> reset{false, false};  ///< phases reset this frame
+  int step = 0;                                         ///< 0 on the first frame
+  std::array<bool, 2> reset{false, false};              ///< phases reset this frame
   std::vector<std::pair<std::string, double>> seconds;  ///< per stage
 };
 
@@ -135,7 +135,6 @@ class FlowMapAdvector {
 /// Synthesises the atlas from the two phases (colour, and with `aov`: Σw = 1,
 /// the number of phases with w > 0, and the dominant phase as a colour).
 SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& texels,
-                                   const FlowMapFrame& frame, const Exemplar& exemplar, Blend blend,
-                                   bool aov = false);
+                                   const FlowMapFrame& frame, const Exemplar& exemplar, Blend blend, bool aov = false);
 
 }  // namespace fluidtex

@@ -42,7 +42,7 @@ struct SynthesisOptions {
   /// Scene units covered by one exemplar tile at uv scale s = 1; the lookup
   /// is anchor + s·uv / tile_size. Must be > 0 (the job sets (2 + β)·d).
   double tile_size = 1.0;
-  double uv_scale = 1.0;           ///< s (Table 3)
+  double uv_scale = 1.0;  ///< s (Table 3)
   /// d, the disk radius: the support of each patch's core weight K_S·K_t
   /// (Eq. 4, 2; core_weight). A texel blends its patches' core weights; the
   /// coverage tail of the weights (update_weights) enters only as λ·tail,
@@ -50,19 +50,19 @@ struct SynthesisOptions {
   /// no disk reaches and fades out continuously where one does. Must be > 0
   /// (the job sets --radius).
   double radius = 0.0;
-  double projection_tolerance = 0; ///< exact projection slack (scene units); the job sets mpt
-  bool aov = false;                ///< also fill weight / count / patch layers
+  double projection_tolerance = 0;  ///< exact projection slack (scene units); the job sets mpt
+  bool aov = false;                 ///< also fill weight / count / patch layers
 };
 
 struct SynthesisResult {
-  Image color;          ///< atlas colour (exemplar channels), gutters dilated
-  Image weight;         ///< Σw per texel (with aov)
-  Image count;          ///< number of patches blended per texel (with aov)
-  Image patch;          ///< dominant patch id as a colour (with aov)
-  std::size_t chart_texels = 0;     ///< texels inside charts
-  std::size_t uncovered_texels = 0; ///< of those, texels with Σw = 0
-  std::size_t clamped_texels = 0;   ///< texels where a channel left [0,1]
-  std::size_t exact_triangles = 0;  ///< patch triangles that fell back to exact projection (Raster)
+  Image color;                       ///< atlas colour (exemplar channels), gutters dilated
+  Image weight;                      ///< Σw per texel (with aov)
+  Image count;                       ///< number of patches blended per texel (with aov)
+  Image patch;                       ///< dominant patch id as a colour (with aov)
+  std::size_t chart_texels = 0;      ///< texels inside charts
+  std::size_t uncovered_texels = 0;  ///< of those, texels with Σw = 0
+  std::size_t clamped_texels = 0;    ///< texels where a channel left [0,1]
+  std::size_t exact_triangles = 0;   ///< patch triangles that fell back to exact projection (Raster)
   double uncovered_fraction() const {
     return chart_texels ? static_cast<double>(uncovered_texels) / static_cast<double>(chart_texels) : 0.0;
   }
@@ -71,8 +71,8 @@ struct SynthesisResult {
 /// Which surface face (and where in it) each atlas texel centre shows.
 struct TexelMap {
   int size = 0;
-  std::vector<int> face;      ///< per texel (row-major, y down), −1 outside every chart
-  std::vector<Vec3> bary;     ///< per texel, barycentric coordinates in that face
+  std::vector<int> face;                  ///< per texel (row-major, y down), −1 outside every chart
+  std::vector<Vec3> bary;                 ///< per texel, barycentric coordinates in that face
   std::vector<std::uint32_t> face_start;  ///< texels of face f: texels[face_start[f] .. face_start[f+1])
   std::vector<std::uint32_t> texels;      ///< texel indices grouped by face, ascending within a face
 };

@@ -65,8 +65,8 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const 
                     SmoothMap& map);
 
 enum class AdvectResult {
-  Kept,     ///< every vertex followed the surface, or only vertices outside the disk were lost
-  Damaged,  ///< a vertex inside the disk (|uv| < d, where K_S > 0) was removed
+  Kept,        ///< every vertex followed the surface, or only vertices outside the disk were lost
+  Damaged,     ///< a vertex inside the disk (|uv| < d, where K_S > 0) was removed
   CentreLost,  ///< the centre left the surface (beyond mpt): the patch is lost
   Emptied,     ///< no triangle is left: the patch is lost
 };

@@ -47,9 +47,7 @@ const char* to_string(RetireCause c);
 constexpr int kAgeBuckets = 6;
 int age_bucket(int age);
 const char* age_bucket_name(int bucket);
-inline bool is_fading_out(DiskState s) {
-  return s == DiskState::FadingOutDistorted || s == DiskState::FadingOutClose;
-}
+inline bool is_fading_out(DiskState s) { return s == DiskState::FadingOutDistorted || s == DiskState::FadingOutClose; }
 
 struct FadeResult {
   DiskState state;

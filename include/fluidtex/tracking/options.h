@@ -76,22 +76,25 @@ struct TrackingOptions {
   TrackingOptions resolved(double first_frame_diagonal) const;
 };
 
-
 /// Visits every tracking option as (flag name, field reference, help text),
 /// in the order shown by --help and written by --print-config.
 template <class F>
 void visit_options(TrackingOptions& o, F&& f) {
   f("radius", o.radius, "d: Poisson disk radius in scene units (0 = 0.05 x first frame's bounding-box diagonal)");
   f("plane-angle", o.plane_angle, "pa: disks are in the same plane when the dot product of their normals exceeds this");
-  f("patch-vertex-angle", o.patch_vertex_angle, "pva: a patch keeps only triangles whose normal dot the disk normal exceeds this");
+  f("patch-vertex-angle", o.patch_vertex_angle,
+    "pva: a patch keeps only triangles whose normal dot the disk normal exceeds this");
   f("max-distortion", o.max_distortion, "delta_max: Sorkine distortion at which a triangle's quality reaches 0");
   f("uv-scale", o.uv_scale, "s: scale of the uv coordinates at exemplar lookup (larger = smaller texture features)");
-  f("max-projection", o.max_projection, "mpt: patch vertices farther than this from the new surface are removed (0 = 0.25 x radius)");
+  f("max-projection", o.max_projection,
+    "mpt: patch vertices farther than this from the new surface are removed (0 = 0.25 x radius)");
   f("fade-frames", o.fade_frames, "tau: fading period in frames");
-  f("thickness", o.thickness, "cs: ellipsoid half-thickness along the normal, below the smallest detail (0 = 0.25 x radius)");
+  f("thickness", o.thickness,
+    "cs: ellipsoid half-thickness along the normal, below the smallest detail (0 = 0.25 x radius)");
   f("kill-alpha", o.kill_alpha, "alpha: disks closer than (1 - alpha) x radius are faded out (Table 4)");
   f("min-vertex-quality", o.min_vertex_quality, "Q_vmin: a patch with a vertex quality below this fades out (Table 4)");
-  f("selection-margin", o.selection_margin, "beta: patch triangles are selected within (1 + beta) x radius of the disk centre");
+  f("selection-margin", o.selection_margin,
+    "beta: patch triangles are selected within (1 + beta) x radius of the disk centre");
 }
 
 }  // namespace fluidtex

@@ -8,38 +8,38 @@
 #include <vector>
 
 #include "fluidtex/geometry/distortion.h"
-#include "fluidtex/tracking/fading.h"
 #include "fluidtex/geometry/mesh.h"
-#include "fluidtex/tracking/poisson.h"
 #include "fluidtex/geometry/surface.h"
+#include "fluidtex/tracking/fading.h"
+#include "fluidtex/tracking/poisson.h"
 
 namespace fluidtex {
 
 struct Patch {
-  std::uint32_t id = 0;            ///< unique, increasing with creation
+  std::uint32_t id = 0;  ///< unique, increasing with creation
   DiskState state = DiskState::FadingIn;
-  double kt = 0.0;                 ///< temporal weight K_t ∈ [0, 1]
+  double kt = 0.0;  ///< temporal weight K_t ∈ [0, 1]
   int created_frame = 0;
-  int flagged_frame = -1;          ///< frame it started fading out (t_k), −1 if not
+  int flagged_frame = -1;                 ///< frame it started fading out (t_k), −1 if not
   RetireCause cause = RetireCause::None;  ///< why it is fading out (None while it is not)
-  int density = 0;                 ///< ρ at the last update
-  double motion = 0.0;             ///< how far the centre moved in the last step, in units of d
+  int density = 0;                        ///< ρ at the last update
+  double motion = 0.0;                    ///< how far the centre moved in the last step, in units of d
 
-  SurfaceSample center;            ///< the Poisson disk: centre on the current surface, normal
-  Vec2 anchor = Vec2::Zero();      ///< exemplar position of the centre, in tiles ([0,1)²)
+  SurfaceSample center;        ///< the Poisson disk: centre on the current surface, normal
+  Vec2 anchor = Vec2::Zero();  ///< exemplar position of the centre, in tiles ([0,1)²)
 
   // The patch mesh. uv is metric (scene units, centre at the origin, uv area
   // equals the 3D area at creation); synthesis maps it to the exemplar.
-  std::vector<Vec3> positions;           ///< current 3D positions (on the surface)
-  std::vector<SurfacePoint> projections; ///< where each vertex lies on the current surface
+  std::vector<Vec3> positions;            ///< current 3D positions (on the surface)
+  std::vector<SurfacePoint> projections;  ///< where each vertex lies on the current surface
   std::vector<Vec2> uvs;
   std::vector<Tri> triangles;
-  std::vector<RestTriangle> rest;        ///< per triangle: shape at creation (distortion metric)
-  std::vector<std::uint8_t> border;      ///< d_V = 0 when 1 (vertex on the patch boundary)
-  std::vector<float> quality;            ///< Q_V per vertex
-  std::vector<float> weight;             ///< w_V = K_S·K_t per vertex (Eq. 2)
+  std::vector<RestTriangle> rest;    ///< per triangle: shape at creation (distortion metric)
+  std::vector<std::uint8_t> border;  ///< d_V = 0 when 1 (vertex on the patch boundary)
+  std::vector<float> quality;        ///< Q_V per vertex
+  std::vector<float> weight;         ///< w_V = K_S·K_t per vertex (Eq. 2)
 
-  double max_distortion = 1.0;           ///< max D_T over the triangles at the last update
+  double max_distortion = 1.0;  ///< max D_T over the triangles at the last update
   /// Σ over the triangles at creation of seen_weight(): what the whole disk
   /// weighs in the patch-scale distortion test (DistortionTest::Patch).
   double disk_weight = 0.0;

@@ -14,10 +14,10 @@
 namespace fluidtex {
 
 struct PatchHit {
-  int patch = -1;        ///< index into the patch list given to the locator
+  int patch = -1;  ///< index into the patch list given to the locator
   Vec2 uv = Vec2::Zero();
-  double weight = 0.0;   ///< barycentric blend of the vertex weights w_V
-  int tri = -1;          ///< the patch triangle that covers the point
+  double weight = 0.0;       ///< barycentric blend of the vertex weights w_V
+  int tri = -1;              ///< the patch triangle that covers the point
   Vec3 bary = Vec3::Zero();  ///< and the point's barycentric coordinates in it
 };
 
@@ -37,8 +37,7 @@ class PatchLocator {
   /// query point and still cover it (patch triangles are flat chords of a
   /// curved surface, so a little slack is needed; a fraction of mpt).
   /// With `include`, only the patches whose entry is non-zero are located.
-  PatchLocator(const std::vector<Patch>& patches, double tolerance,
-               const std::vector<char>* include = nullptr);
+  PatchLocator(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include = nullptr);
   ~PatchLocator();
 
   /// The covering patches of the surface point `p` with unit normal `n`, at

@@ -21,8 +21,8 @@
 #include <functional>
 #include <vector>
 
-#include "fluidtex/tracking/options.h"
 #include "fluidtex/geometry/surface.h"
+#include "fluidtex/tracking/options.h"
 
 namespace fluidtex {
 
@@ -40,8 +40,7 @@ double ellipsoid_k(const Vec3& p, const Vec3& n, const Vec3& c, double r, double
 inline bool same_plane(const Vec3& n, const Vec3& nc, double pa) { return nc.dot(n) > pa; }
 
 /// Does the disk (p, n) reject a candidate (c, nc) at radius `r`?
-bool rejects(const Vec3& p, const Vec3& n, const Vec3& c, const Vec3& nc, double r,
-             const PoissonParams& params);
+bool rejects(const Vec3& p, const Vec3& n, const Vec3& c, const Vec3& nc, double r, const PoissonParams& params);
 
 /// A point on the surface with its unit normal.
 struct SurfaceSample {
@@ -54,8 +53,8 @@ struct SurfaceSample {
 /// (they reach rims and corners), and every vertex and triangle centroid of
 /// components too small to receive random points (thin splashes, droplets). The random streams are
 /// keyed by face index, so an unchanged surface gives the same candidates.
-std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius,
-                                              std::uint64_t seed, double per_disk = 32.0);
+std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, double radius, std::uint64_t seed,
+                                              double per_disk = 32.0);
 
 /// Dart throwing: keeps every candidate that no existing disk nor earlier kept
 /// candidate rejects. Then any connected component with area above
@@ -71,9 +70,9 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 /// no longer cover the disk its centre stands for; this keeps the surface
 /// covered (Σw > 0 everywhere), which the blending needs.
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
-                                     const std::vector<SurfaceSample>& candidates,
-                                     const SurfaceIndex& surface, const PoissonParams& params,
-                                     double min_component_area, const std::vector<char>* uncovered = nullptr);
+                                     const std::vector<SurfaceSample>& candidates, const SurfaceIndex& surface,
+                                     const PoissonParams& params, double min_component_area,
+                                     const std::vector<char>* uncovered = nullptr);
 
 /// Kill-distance flags (Sec. 5.4): visiting `disks` in order (callers pass
 /// them oldest first), a disk is flagged when an earlier, unflagged disk

@@ -21,19 +21,19 @@
 #include <string>
 #include <vector>
 
+#include "fluidtex/io/stats.h"
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
-#include "fluidtex/io/stats.h"
 
 namespace fluidtex {
 
 struct TrackerSettings {
-  TrackingOptions method;                 ///< Table 3/4 parameters (resolved on the first frame)
+  TrackingOptions method;  ///< Table 3/4 parameters (resolved on the first frame)
   Advection advection = Advection::Heun;
   PatchMotion motion = PatchMotion::Smooth;
   std::uint64_t seed = 1;
-  double candidates_per_disk = 32.0;      ///< dart-throwing candidates per disk area π d²
+  double candidates_per_disk = 32.0;  ///< dart-throwing candidates per disk area π d²
   /// Components smaller than this × π d² may stay without a disk.
   double min_component_area = 0.02;
   /// Insert disks where no live patch covers the surface even if a disk
@@ -55,10 +55,10 @@ struct RetiredPatch {
 struct StepReport {
   int frame = 0;
   PatchCounts counts;
-  int created = 0;          ///< new patches this frame
-  int removed = 0;          ///< patches removed (faded out or lost)
-  int lost = 0;             ///< of those, lost in advection (centre beyond mpt, no triangle left)
-  int failed = 0;           ///< disks whose patch could not be built (logged in aggregate)
+  int created = 0;                    ///< new patches this frame
+  int removed = 0;                    ///< patches removed (faded out or lost)
+  int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
+  int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
   std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
   std::size_t patch_vertices = 0;
   std::vector<std::pair<std::string, double>> seconds;  ///< per stage

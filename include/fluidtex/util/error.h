@@ -16,8 +16,7 @@ namespace fluidtex {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, const std::string& problem)
-      : std::runtime_error(file.empty() ? problem : file + ": " + problem),
-        file_(file), problem_(problem) {}
+      : std::runtime_error(file.empty() ? problem : file + ": " + problem), file_(file), problem_(problem) {}
   const std::string& file() const { return file_; }
   const std::string& problem() const { return problem_; }
 

@@ -38,8 +38,7 @@ enum class Stream : std::uint64_t {
   FlowMapAnchor = 6,
 };
 
-inline double uniform(std::uint64_t seed, Stream stream, std::uint64_t a, std::uint64_t b = 0,
-                      std::uint64_t c = 0) {
+inline double uniform(std::uint64_t seed, Stream stream, std::uint64_t a, std::uint64_t b = 0, std::uint64_t c = 0) {
   return to_unit(hash_values({seed, static_cast<std::uint64_t>(stream), a, b, c}));
 }
 
