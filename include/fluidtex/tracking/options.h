@@ -1,6 +1,6 @@
 /// @file options.h
 /// @brief Parameters of the method (Gagnon et al. 2019, Appendix A, Tables 3
-/// and 4) and of the job, each with its default from ALGORITHM.md. These
+/// and 4) and of the job, each with its default (docs/method.md, Definitions). These
 /// structs are the single source of truth: the command line, `--help`, the
 /// config file and `--print-config` are generated from `visit_options`.
 #pragma once
@@ -32,7 +32,7 @@ enum class Fading {
 
 /// Where "too distorted" (Sec. 5.3) is judged.
 enum class DistortionTest {
-  /// The default (departure from ALGORITHM.md's per-vertex rule): the patch
+  /// The default (departure from the paper's per-vertex rule): the patch
   /// is too distorted when its quality at the scale it is seen, the mean of
   /// Q_T over the triangles inside the disk weighted by rest area and by the
   /// radial term of K_S, falls below Q_vmin. Reconstructed surfaces and

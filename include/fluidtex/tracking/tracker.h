@@ -1,7 +1,7 @@
 /// @file tracker.h
 /// @brief Patch tracking over a sequence (Gagnon et al. 2019, Secs. 4–6.3):
 /// the per-frame update of the Poisson-disk distribution of deformable
-/// patches. Per frame, in order (ALGORITHM.md):
+/// patches. Per frame, in order (docs/method.md):
 ///  1. advect every disk centre and patch vertex, project onto the new surface
 ///     (vertices beyond mpt are removed, a centre beyond mpt kills its patch);
 ///  2. distortion → "fading out (too distorted)";
