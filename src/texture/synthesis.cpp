@@ -540,6 +540,15 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
       };
       std::vector<Pending> pending(static_cast<std::size_t>(kTile) * kTile);
       std::vector<std::size_t> pending_texels;
+      // Surface point and normal of each texel, computed on its first
+      // projected-fallback test (a texel is tested against many triangles).
+      std::vector<Vec3> point, normal;
+      std::vector<char> point_ready;
+      if (std::any_of(jobs[tile].begin(), jobs[tile].end(), [](const Job& job) { return job.regions >= 0; })) {
+        point.resize(static_cast<std::size_t>(kTile) * kTile);
+        normal.resize(point.size());
+        point_ready.assign(point.size(), 0);
+      }
       int pending_patch = -1;
       auto flush = [&] {
         for (std::size_t j : pending_texels) {
@@ -594,13 +603,17 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
               for (int x = std::max(r.x0, tx0); x <= std::min(r.x1, tx1 - 1); ++x) {
                 const std::size_t i = static_cast<std::size_t>(y) * n + x;
                 if (map.face[i] != r.face) continue;
-                const SurfacePoint s = surface.at(r.face, map.bary[i]);
+                const std::size_t j = local(i);
+                if (!point_ready[j]) {
+                  const SurfacePoint s = surface.at(r.face, map.bary[i]);
+                  point[j] = s.position, normal[j] = surface.normal_at(s), point_ready[j] = 1;
+                }
                 Vec3 l;
                 double dist2;
-                if (project_to_patch_triangle(patch, tri, s.position, surface.normal_at(s), tolerance, l, dist2)) {
-                  Pending& slot = pending[local(i)];
+                if (project_to_patch_triangle(patch, tri, point[j], normal[j], tolerance, l, dist2)) {
+                  Pending& slot = pending[j];
                   if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
-                  if (std::isinf(slot.dist2)) pending_texels.push_back(local(i));
+                  if (std::isinf(slot.dist2)) pending_texels.push_back(j);
                   slot.dist2 = dist2;
                   slot.uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
                   std::tie(slot.w, slot.core) = contribute.weights(job.patch, tri, l);
