@@ -7,10 +7,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <sstream>
 #include <thread>
 
 #include <oneapi/tbb/global_control.h>
@@ -142,14 +144,42 @@ struct RunArgs {
   std::string config;
 };
 
+/// Reads a TOML config file through CLI11. CLI11 2.1 cuts a value at the
+/// first '#' even inside quotes (input="mesh.####.ply" read back as
+/// "mesh."), so comments are stripped here, outside quotes only, and CLI11
+/// is told that nothing else starts one.
+std::vector<CLI::ConfigItem> read_toml(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot read config file");
+  std::stringstream clean;
+  for (std::string line; std::getline(in, line);) {
+    char quote = 0;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      const char c = line[k];
+      if (quote == '"' && c == '\\') {
+        ++k;  // an escaped character inside a basic string
+      } else if (quote != 0) {
+        if (c == quote) quote = 0;
+      } else if (c == '"' || c == '\'') {
+        quote = c;
+      } else if (c == '#') {
+        line.erase(k);
+        break;
+      }
+    }
+    clean << line << '\n';
+  }
+  CLI::ConfigTOML toml;
+  toml.comment('\0');
+  return toml.from_config(clean);
+}
+
 /// Applies a TOML config file (the format --print-config writes) to the
 /// options of `cmd` that were not given on the command line.
 void apply_config(CLI::App* cmd, const std::string& path) {
   std::vector<CLI::ConfigItem> items;
   try {
-    items = CLI::ConfigTOML().from_file(path);
-  } catch (const CLI::FileError&) {
-    throw InputError(path, "cannot read config file");
+    items = read_toml(path);
   } catch (const CLI::ParseError& e) {
     throw InputError(path, std::string("malformed config file: ") + e.what());
   }
@@ -159,8 +189,12 @@ void apply_config(CLI::App* cmd, const std::string& path) {
     CLI::Option* op = cmd->get_option_no_throw("--" + item.name);
     if (op == nullptr || !op->get_configurable()) throw InputError(path, "unknown option '" + item.name + "'");
     if (op->count() > 0) continue;
+    std::vector<std::string> inputs = item.inputs;
+    // A list option printed empty (aov="") reads back as one empty element.
+    if (op->get_items_expected_max() > 1) std::erase(inputs, std::string());
+    if (inputs.empty() && op->get_items_expected_max() > 1) continue;
     try {
-      op->add_result(item.inputs);
+      op->add_result(inputs);
       op->run_callback();
     } catch (const CLI::ParseError& e) {
       throw InputError(path, "option '" + item.name + "': " + e.what());
@@ -178,7 +212,10 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
                   "options given on the command line win")
       ->configurable(false);
   add_input_options(run, args->job.input);
-  run->add_option("-o,--output", args->job.output.dir, "Output folder")->required();
+  // -i and -o may come from --config, which is applied after CLI11's own
+  // required-option check: the job validates both (one-line error, exit 2).
+  run->get_option("--input")->required(false);
+  run->add_option("-o,--output", args->job.output.dir, "Output folder (required)");
   run->add_option("-e,--exemplar", args->job.exemplar,
                   "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB "
                   "and linearised, float files as linear)");

@@ -129,6 +129,21 @@ TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
   EXPECT_EQ(run_fluidtex("run -i x.####.ply -o o --config " + q(dir.file("missing.toml")), &out), 2);
 }
 
+/// `--print-config` output read back by `--config` gives the same
+/// configuration, and a run from it works (an empty list option once failed).
+TEST(Cli, PrintConfigOutputReadsBackUnchanged) {
+  test::TempDir dir;
+  const std::string run = rotation_run(dir, 2, 12, 32, 64);
+  std::string printed, again, out;
+  ASSERT_EQ(run_fluidtex(run + "-o " + q(dir.file("o")) + " --seed 7 --fading density --print-config", &printed), 0)
+      << printed;
+  test::write_file(dir.path() / "p.toml", printed);
+  ASSERT_EQ(run_fluidtex("run --config " + q(dir.file("p.toml")) + " --print-config", &again), 0) << again;
+  EXPECT_EQ(again, printed);
+  EXPECT_EQ(run_fluidtex("run --config " + q(dir.file("p.toml")), &out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir.path() / "o" / "atlas.0002.exr"));
+}
+
 TEST(Cli, RunWritesEveryOutputPerFrame) {
   test::TempDir dir;
   std::string out;
