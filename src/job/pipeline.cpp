@@ -1,6 +1,5 @@
 #include "fluidtex/job/pipeline.h"
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <numeric>
@@ -18,6 +17,7 @@
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
@@ -129,8 +129,6 @@ namespace {
 template <class Texels>
 void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats,
                  Texels&& texels) {
-  using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const SynthesisJobOptions& so = options.synthesis;
   auto t0 = Clock::now();
   const Atlas atlas = build_atlas(surface, so.atlas);
@@ -181,9 +179,7 @@ void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& f
 }
 
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
-  using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   options.validate();
   const Sequence sequence(options.input);
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)

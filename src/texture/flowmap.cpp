@@ -2,7 +2,6 @@
 #include "fluidtex/texture/flowmap.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -11,6 +10,7 @@
 
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
+#include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
@@ -68,8 +68,6 @@ FlowMapAdvector::FlowMapAdvector(FlowMapSettings settings) : settings_(std::move
 }
 
 FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double dt) {
-  using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   FlowMapStep report;
   report.step = steps_;
   auto t0 = Clock::now();

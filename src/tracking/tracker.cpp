@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <optional>
@@ -12,14 +11,11 @@
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
+#include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 template <class F>
 void parallel_each(std::size_t n, F&& f) {
@@ -64,65 +60,90 @@ Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt) {
   StepReport report;
   report.frame = frame;
-  auto t0 = Clock::now();
-  // The index refers to *mesh; holding the mesh in the deleter keeps it alive
-  // as long as anyone holds the surface.
-  std::shared_ptr<const SurfaceIndex> surface(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
-  if (!started_) settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
+  std::shared_ptr<const SurfaceIndex> surface;
+  {
+    const ScopedStage stage(report.seconds, "surface");
+    // The index refers to *mesh; holding the mesh in the deleter keeps it
+    // alive as long as anyone holds the surface.
+    surface.reset(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
+    if (!started_) settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
+  }
+  if (started_) {
+    const std::vector<AdvectResult> advected = advect(*surface, dt, report);  // 1
+    retire_distorted(*surface, advected, frame, report);                      // 2
+  }
+  const std::vector<SurfaceSample> fresh = poisson_update(*surface, frame, report);  // 3
+  add_patches(*surface, fresh, frame, report);
+  fade(report);   // 4
+  weigh(report);  // 5
+
+  std::sort(report.retired.begin(), report.retired.end(),
+            [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
+  retired_ = report.retired;
+  mesh_ = std::move(mesh);
+  surface_ = std::move(surface);
+  frame_ = frame;
+  started_ = true;
+  report.counts = count_states(patches_);
+  for (const Patch& p : patches_) report.patch_vertices += p.num_vertices();
+  return report;
+}
+
+std::vector<AdvectResult> Tracker::advect(const SurfaceIndex& next, double dt, StepReport& report) {
+  const ScopedStage stage(report.seconds, "advect");
+  std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
+  parallel_each(patches_.size(), [&](std::size_t i) {
+    advected[i] =
+        advect_patch(patches_[i], *surface_, next, dt, settings_.method, settings_.advection, settings_.motion);
+  });
+  return advected;
+}
+
+void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<AdvectResult>& advected, int frame,
+                               StepReport& report) {
+  const ScopedStage stage(report.seconds, "distortion");
+  const TrackingOptions& o = settings_.method;
+  std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
+  parallel_each(patches_.size(), [&](std::size_t i) {
+    if (is_lost(advected[i])) return;
+    distorted[i] = update_distortion(patches_[i], surface, o);
+    // The per-vertex rules retire a patch for any vertex lost inside the
+    // disk; the patch-scale test weighs the lost part in update_distortion.
+    if (distorted[i] == RetireCause::None && advected[i] == AdvectResult::Damaged &&
+        o.distortion_test == DistortionTest::Vertex) {
+      distorted[i] = RetireCause::VerticesLost;
+    }
+  });
+  std::vector<Patch> kept;
+  kept.reserve(patches_.size());
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    Patch& p = patches_[i];
+    if (is_lost(advected[i])) {
+      ++report.lost;
+      if (!is_fading_out(p.state)) {
+        const RetireCause cause =
+            advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
+        report.retired.push_back({p.id, cause, frame - p.created_frame});
+      }
+      continue;
+    }
+    if (distorted[i] != RetireCause::None && !is_fading_out(p.state)) {
+      p.state = DiskState::FadingOutDistorted;
+      p.flagged_frame = frame;
+      p.cause = distorted[i];
+      report.retired.push_back({p.id, p.cause, frame - p.created_frame});
+    }
+    kept.push_back(std::move(p));
+  }
+  patches_ = std::move(kept);
+}
+
+std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, int frame, StepReport& report) {
+  const ScopedStage stage(report.seconds, "poisson");
   const TrackingOptions& o = settings_.method;
   const PoissonParams params = poisson_params(o);
-  report.seconds.emplace_back("surface", seconds_since(t0));
-
-  if (started_) {
-    // 1. Advection and projection.
-    t0 = Clock::now();
-    std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
-    parallel_each(patches_.size(), [&](std::size_t i) {
-      advected[i] = advect_patch(patches_[i], *surface_, *surface, dt, o, settings_.advection, settings_.motion);
-    });
-    report.seconds.emplace_back("advect", seconds_since(t0));
-
-    // 2. Distortion.
-    t0 = Clock::now();
-    std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
-    parallel_each(patches_.size(), [&](std::size_t i) {
-      if (is_lost(advected[i])) return;
-      distorted[i] = update_distortion(patches_[i], *surface, o);
-      // The per-vertex rules retire a patch for any vertex lost inside the
-      // disk; the patch-scale test weighs the lost part in update_distortion.
-      if (distorted[i] == RetireCause::None && advected[i] == AdvectResult::Damaged &&
-          o.distortion_test == DistortionTest::Vertex) {
-        distorted[i] = RetireCause::VerticesLost;
-      }
-    });
-    std::vector<Patch> kept;
-    kept.reserve(patches_.size());
-    for (std::size_t i = 0; i < patches_.size(); ++i) {
-      Patch& p = patches_[i];
-      if (is_lost(advected[i])) {
-        ++report.lost;
-        if (!is_fading_out(p.state)) {
-          const RetireCause cause =
-              advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
-          report.retired.push_back({p.id, cause, frame - p.created_frame});
-        }
-        continue;
-      }
-      if (distorted[i] != RetireCause::None && !is_fading_out(p.state)) {
-        p.state = DiskState::FadingOutDistorted;
-        p.flagged_frame = frame;
-        p.cause = distorted[i];
-        report.retired.push_back({p.id, p.cause, frame - p.created_frame});
-      }
-      kept.push_back(std::move(p));
-    }
-    patches_ = std::move(kept);
-    report.seconds.emplace_back("distortion", seconds_since(t0));
-  }
-
-  // 3. Poisson update, ignoring fading-out disks; patches are in id order, so
-  // of two disks too close the younger one fades out.
-  t0 = Clock::now();
+  // Fading-out disks are ignored; patches are in id order, so of two disks
+  // too close the younger one fades out.
   std::vector<std::size_t> live;
   std::vector<SurfaceSample> disks;
   for (std::size_t i = 0; i < patches_.size(); ++i) {
@@ -149,7 +170,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     }
   }
   std::vector<SurfaceSample> candidates =
-      surface_candidates(*surface, o.radius, settings_.seed, settings_.candidates_per_disk);
+      surface_candidates(surface, o.radius, settings_.seed, settings_.candidates_per_disk);
   // Which candidates the live patches really cover (K_S > 0): their
   // weights are refreshed for the advected shape first.
   std::vector<char> uncovered;
@@ -164,28 +185,30 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     // Random candidates miss thin strips (the fillet where a liquid surface
     // meets a wall, narrower than their spacing): the centroid of every face
     // left bare is a candidate too, after the others, in face order.
-    const std::vector<char> bare = uncovered_faces(*surface, coverage);
+    const std::vector<char> bare = uncovered_faces(surface, coverage);
     for (std::size_t f = 0; f < bare.size(); ++f) {
       if (!bare[f]) continue;
       SurfaceSample centroid;
-      centroid.point = surface->at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
-      centroid.normal = surface->normal_at(centroid.point);
+      centroid.point = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
+      centroid.normal = surface.normal_at(centroid.point);
       candidates.push_back(centroid);
       uncovered.push_back(1);
     }
   }
-  const std::vector<SurfaceSample> fresh =
-      fill_gaps(remaining, candidates, *surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,
-                uncovered.empty() ? nullptr : &uncovered);
-  report.seconds.emplace_back("poisson", seconds_since(t0));
+  return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,
+                   uncovered.empty() ? nullptr : &uncovered);
+}
 
-  // Patches for the new disks, in parallel; ids are fixed before the loop.
-  t0 = Clock::now();
+void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
+                          StepReport& report) {
+  const ScopedStage stage(report.seconds, "patches");
+  const TrackingOptions& o = settings_.method;
+  // Built in parallel; ids are fixed before the loop.
   std::vector<std::optional<Patch>> built(fresh.size());
   parallel_each(fresh.size(), [&](std::size_t i) {
-    built[i] = build_patch(*surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame,
+    built[i] = build_patch(surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame,
                            settings_.patch_edge * o.radius);
-    if (built[i]) update_distortion(*built[i], *surface, o);
+    if (built[i]) update_distortion(*built[i], surface, o);
   });
   next_id_ += static_cast<std::uint32_t>(fresh.size());
   for (std::optional<Patch>& p : built) {
@@ -198,14 +221,15 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     patches_.push_back(std::move(*p));
     ++report.created;
   }
-  report.seconds.emplace_back("patches", seconds_since(t0));
+}
 
-  // 4. Density and temporal weights.
-  t0 = Clock::now();
+void Tracker::fade(StepReport& report) {
+  const ScopedStage stage(report.seconds, "fading");
+  const TrackingOptions& o = settings_.method;
   std::vector<SurfaceSample> all;
   all.reserve(patches_.size());
   for (const Patch& p : patches_) all.push_back(p.center);
-  const std::vector<int> rho = disk_density(all, params);
+  const std::vector<int> rho = disk_density(all, poisson_params(o));
   std::vector<Patch> survivors;
   survivors.reserve(patches_.size());
   for (std::size_t i = 0; i < patches_.size(); ++i) {
@@ -222,23 +246,11 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   }
   patches_ = std::move(survivors);
   report.removed += report.lost;
-  report.seconds.emplace_back("fading", seconds_since(t0));
+}
 
-  // 5. Vertex weights.
-  t0 = Clock::now();
-  parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], o); });
-  report.seconds.emplace_back("weights", seconds_since(t0));
-
-  std::sort(report.retired.begin(), report.retired.end(),
-            [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
-  retired_ = report.retired;
-  mesh_ = std::move(mesh);
-  surface_ = std::move(surface);
-  frame_ = frame;
-  started_ = true;
-  report.counts = count_states(patches_);
-  for (const Patch& p : patches_) report.patch_vertices += p.num_vertices();
-  return report;
+void Tracker::weigh(StepReport& report) {
+  const ScopedStage stage(report.seconds, "weights");
+  parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], settings_.method); });
 }
 
 }  // namespace fluidtex

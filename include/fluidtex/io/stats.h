@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "fluidtex/util/timing.h"
+
 namespace fluidtex {
 
 struct PatchCounts {
@@ -25,7 +27,7 @@ struct FrameStats {
   std::size_t faces = 0;
   PatchCounts patches;
   /// Stage name -> wall seconds, written in insertion order.
-  std::vector<std::pair<std::string, double>> seconds;
+  StageSeconds seconds;
   double uncovered_fraction = 0.0;
   /// Further numbers (e.g. "packing_efficiency", "texels_per_second").
   std::vector<std::pair<std::string, double>> extra;

@@ -41,6 +41,7 @@
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/options.h"
+#include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
@@ -94,9 +95,9 @@ struct FlowMapSettings {
 };
 
 struct FlowMapStep {
-  int step = 0;                                         ///< 0 on the first frame
-  std::array<bool, 2> reset{false, false};              ///< phases reset this frame
-  std::vector<std::pair<std::string, double>> seconds;  ///< per stage
+  int step = 0;                             ///< 0 on the first frame
+  std::array<bool, 2> reset{false, false};  ///< phases reset this frame
+  StageSeconds seconds;                     ///< per stage
 };
 
 /// Carries the two uv sets from frame to frame.

@@ -25,6 +25,7 @@
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
+#include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
@@ -61,7 +62,7 @@ struct StepReport {
   int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
   std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
   std::size_t patch_vertices = 0;
-  std::vector<std::pair<std::string, double>> seconds;  ///< per stage
+  StageSeconds seconds;  ///< per stage
 };
 
 class Tracker {
@@ -100,6 +101,15 @@ class Tracker {
   static Tracker load(const std::string& path, std::shared_ptr<const FrameMesh> mesh);
 
  private:
+  // The steps of step(), in order (see the file comment).
+  std::vector<AdvectResult> advect(const SurfaceIndex& next, double dt, StepReport& report);
+  void retire_distorted(const SurfaceIndex& surface, const std::vector<AdvectResult>& advected, int frame,
+                        StepReport& report);
+  std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, int frame, StepReport& report);
+  void add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame, StepReport& report);
+  void fade(StepReport& report);
+  void weigh(StepReport& report);
+
   TrackerSettings settings_;
   std::vector<Patch> patches_;
   std::vector<RetiredPatch> retired_;
