@@ -106,7 +106,7 @@ SurfacePoint SurfaceIndex::at(int face, const Vec3& bary) const {
   s.face = face;
   s.bary = bary;
   const Tri& t = mesh_->triangles[face];
-  s.position = bary[0] * mesh_->positions[t[0]] + bary[1] * mesh_->positions[t[1]] + bary[2] * mesh_->positions[t[2]];
+  s.position = interpolate(mesh_->positions, t, bary);
   return s;
 }
 
@@ -160,16 +160,14 @@ bool SurfaceIndex::on_boundary(const SurfacePoint& s, double tolerance) const {
 
 Vec3 SurfaceIndex::normal_at(const SurfacePoint& s) const {
   const Tri& t = mesh_->triangles[s.face];
-  const Vec3 n =
-      s.bary[0] * vertex_normals_[t[0]] + s.bary[1] * vertex_normals_[t[1]] + s.bary[2] * vertex_normals_[t[2]];
+  const Vec3 n = interpolate(vertex_normals_, t, s.bary);
   const double len = n.norm();
   return len > 1e-12 ? Vec3(n / len) : face_normals_[s.face];
 }
 
 Vec3 SurfaceIndex::velocity_at(const SurfacePoint& s) const {
   const Tri& t = mesh_->triangles[s.face];
-  return s.bary[0] * mesh_->velocities[t[0]] + s.bary[1] * mesh_->velocities[t[1]] +
-         s.bary[2] * mesh_->velocities[t[2]];
+  return interpolate(mesh_->velocities, t, s.bary);
 }
 
 }  // namespace fluidtex

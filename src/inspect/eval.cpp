@@ -179,7 +179,7 @@ void TexturedFrame::color_at(const Vec3& p, float* out) const {
     return;
   }
   const Tri& t = mesh.uv_triangles[s.face];
-  const Vec2 uv = s.bary[0] * mesh.uvs[t[0]] + s.bary[1] * mesh.uvs[t[1]] + s.bary[2] * mesh.uvs[t[2]];
+  const Vec2 uv = interpolate(mesh.uvs, t, s.bary);
   sample_bilinear(atlas, uv.x() * atlas.width, (1.0 - uv.y()) * atlas.height, out);
 }
 
@@ -211,7 +211,7 @@ std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int cou
 
 Vec3 point_of(const FrameMesh& mesh, int f, const Vec3& bary, const std::vector<Vec3>& attribute) {
   const Tri& t = mesh.triangles[f];
-  return bary[0] * attribute[t[0]] + bary[1] * attribute[t[1]] + bary[2] * attribute[t[2]];
+  return interpolate(attribute, t, bary);
 }
 
 }  // namespace
@@ -444,8 +444,7 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
       if (!inside) continue;
       const Tri& t = at_t.mesh.triangles[a.gbuffer.face_at(x, y)];
       const Vec3& l = a.gbuffer.bary_at(x, y);
-      const Vec3 p =
-          l[0] * at_t.mesh.positions[t[0]] + l[1] * at_t.mesh.positions[t[1]] + l[2] * at_t.mesh.positions[t[2]];
+      const Vec3 p = interpolate(at_t.mesh.positions, t, l);
       const SurfacePoint s = velocity.closest_point(p);
       if (!s.valid()) continue;
       const Vec2 d = a.camera.image_displacement(p, velocity.velocity_at(s) * dt);

@@ -199,15 +199,13 @@ RenderResult render(const UVMesh& mesh, const Image& atlas, const RenderOptions&
   for (std::size_t i = 0; i < g.face.size(); ++i) {
     const int f = g.face[i];
     if (f < 0) continue;
-    const double l0 = g.bary[i][0], l1 = g.bary[i][1], l2 = g.bary[i][2];
-    const Tri& ut = mesh.uv_triangles[f];
-    const Vec2 uv = l0 * mesh.uvs[ut[0]] + l1 * mesh.uvs[ut[1]] + l2 * mesh.uvs[ut[2]];
+    const Vec3& l = g.bary[i];
+    const Vec2 uv = interpolate(mesh.uvs, mesh.uv_triangles[f], l);
     float rgb[3];
     sample_uv(atlas, uv.x(), uv.y(), rgb);
     double shade = 1.0;
     if (options.shade && !mesh.normals.empty()) {
-      const Tri& t = mesh.triangles[f];
-      Vec3 n = l0 * mesh.normals[t[0]] + l1 * mesh.normals[t[1]] + l2 * mesh.normals[t[2]];
+      Vec3 n = interpolate(mesh.normals, mesh.triangles[f], l);
       if (n.norm() > 0) n.normalize();
       shade = 0.35 + 0.65 * std::abs(n.dot(light));
     }

@@ -115,7 +115,7 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
         }
         const Tri& t = surface_->mesh().triangles[s.face];
         const std::vector<Vec2>& uv = uv_[k];
-        next[k][v] = s.bary[0] * uv[t[0]] + s.bary[1] * uv[t[1]] + s.bary[2] * uv[t[2]] + inflow;
+        next[k][v] = interpolate(uv, t, s.bary) + inflow;
       }
     }
   });
@@ -190,7 +190,7 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
         const double w = frame.weight[k];
         if (!(w > 0.0)) continue;
         const std::vector<Vec2>& uv = frame.uv[k];
-        const Vec2 u = frame.anchor[k] + frame.uv_scale * (l[0] * uv[tri[0]] + l[1] * uv[tri[1]] + l[2] * uv[tri[2]]);
+        const Vec2 u = frame.anchor[k] + frame.uv_scale * interpolate(uv, tri, l);
         float r[3];
         exemplar.sample(u.x(), u.y(), r);
         for (int c = 0; c < nc; ++c) sum[c] += w * static_cast<double>(blend_term(blend, r[c], exemplar.mean()[c]));

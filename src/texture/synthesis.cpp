@@ -82,8 +82,7 @@ struct Contributor {
   std::pair<double, double> weights(int patch, const Tri& tri, const Vec3& l) const {
     const Patch& p = patches[patch];
     const std::vector<float>& c = core[patch];
-    return {l[0] * p.weight[tri[0]] + l[1] * p.weight[tri[1]] + l[2] * p.weight[tri[2]],
-            l[0] * c[tri[0]] + l[1] * c[tri[1]] + l[2] * c[tri[2]]};
+    return {interpolate(p.weight, tri, l), interpolate(c, tri, l)};
   }
 
   void sample(int patch, const Vec2& uv, double* centred) const {
@@ -381,7 +380,7 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
           for (int k = 0; k < 3; ++k) {
             const SurfacePoint& s = patch.projections[tri[k]];
             const auto& corner = atlas.corner_px[s.face];
-            px[k] = s.bary[0] * corner[0] + s.bary[1] * corner[1] + s.bary[2] * corner[2];
+            px[k] = interpolate(s.bary, corner[0], corner[1], corner[2]);
           }
           lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
         }
@@ -589,10 +588,10 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                 if (!across_rim) continue;
                 const auto lift = [](const Vec2& v) { return Vec3(v.x(), v.y(), 0.0); };
                 l = barycentric(lift(centre), lift(px[0]), lift(px[1]), lift(px[2]));
-                const Vec2 closest = l[0] * px[0] + l[1] * px[1] + l[2] * px[2];
+                const Vec2 closest = interpolate(l, px[0], px[1], px[2]);
                 if ((closest - centre).norm() > slack_px) continue;
               }
-              const Vec2 uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+              const Vec2 uv = interpolate(patch.uvs, tri, l);
               const auto [w, c] = contribute.weights(job.patch, tri, l);
               contribute.add(acc, tails, local(i), job.patch, uv, w, c);
             }
@@ -615,7 +614,7 @@ SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, cons
                   if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
                   if (std::isinf(slot.dist2)) pending_texels.push_back(j);
                   slot.dist2 = dist2;
-                  slot.uv = l[0] * patch.uvs[tri[0]] + l[1] * patch.uvs[tri[1]] + l[2] * patch.uvs[tri[2]];
+                  slot.uv = interpolate(patch.uvs, tri, l);
                   std::tie(slot.w, slot.core) = contribute.weights(job.patch, tri, l);
                 }
               }

@@ -56,7 +56,7 @@ Vec2 uv_at(const Patch& patch, const Vec3& p) {
     const double d2 = (on - p).squaredNorm();
     if (d2 < best) {
       best = d2;
-      uv = w[0] * patch.uvs[t[0]] + w[1] * patch.uvs[t[1]] + w[2] * patch.uvs[t[2]];
+      uv = interpolate(patch.uvs, t, w);
     }
   }
   return uv;

@@ -35,7 +35,7 @@ bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, 
   }
   // Just outside: the closest point of the triangle, within the slack.
   bary = barycentric(qp, a, b, c);  // clamped to the triangle
-  const Vec3 closest = bary[0] * a + bary[1] * b + bary[2] * c;
+  const Vec3 closest = interpolate(bary, a, b, c);
   const double slack = 0.1 * tolerance;
   if ((closest - qp).squaredNorm() > slack * slack) return false;
   dist2 = (closest - q).squaredNorm();
@@ -128,8 +128,8 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
     hit.patch = b.patch;
     hit.tri = b.tri;
     hit.bary = b.bary;
-    hit.uv = b.bary[0] * patch.uvs[tri[0]] + b.bary[1] * patch.uvs[tri[1]] + b.bary[2] * patch.uvs[tri[2]];
-    hit.weight = b.bary[0] * patch.weight[tri[0]] + b.bary[1] * patch.weight[tri[1]] + b.bary[2] * patch.weight[tri[2]];
+    hit.uv = interpolate(patch.uvs, tri, b.bary);
+    hit.weight = interpolate(patch.weight, tri, b.bary);
     hits.push_back(hit);
   }
 }
@@ -204,7 +204,7 @@ double nearest_weight(const Patch& patch, const Vec3& p, const Vec3& n, double t
     double dist2;
     if (!project_to_patch_triangle(patch, tri, p, n, tolerance, bary, dist2) || !(dist2 < best)) continue;
     best = dist2;
-    weight = bary[0] * patch.weight[tri[0]] + bary[1] * patch.weight[tri[1]] + bary[2] * patch.weight[tri[2]];
+    weight = interpolate(patch.weight, tri, bary);
   }
   return weight;
 }

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,6 +21,25 @@ namespace fluidtex {
 using Vec3 = Eigen::Vector3d;
 using Vec2 = Eigen::Vector2d;
 using Tri = std::array<int, 3>;
+
+/// l[0]·a + l[1]·b + l[2]·c: a value at barycentric coordinates `l` of a
+/// triangle with corner values a, b, c (positions, uvs, normals, weights).
+/// Scalars (float included) interpolate in double.
+template <class T>
+auto interpolate(const Vec3& l, const T& a, const T& b, const T& c) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return l[0] * a + l[1] * b + l[2] * c;
+  } else {
+    return T(l[0] * a + l[1] * b + l[2] * c);
+  }
+}
+
+/// The per-vertex attribute `values` at barycentric coordinates `l` of
+/// triangle `t` (indices into `values`).
+template <class Values>
+auto interpolate(const Values& values, const Tri& t, const Vec3& l) {
+  return interpolate(l, values[t[0]], values[t[1]], values[t[2]]);
+}
 
 struct FrameMesh {
   std::vector<Vec3> positions;   ///< one per vertex, scene units
