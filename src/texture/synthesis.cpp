@@ -257,412 +257,543 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
   }
 }
 
-SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
-                           const std::vector<Patch>& patches, const Exemplar& exemplar,
-                           const SynthesisOptions& options) {
-  if (!(options.tile_size > 0.0)) throw InternalError("synthesis: tile size must be > 0");
-  if (!(options.radius > 0.0)) throw InternalError("synthesis: disk radius must be > 0");
-  const int n = atlas.size;
-  const std::size_t texel_count = static_cast<std::size_t>(n) * n;
-  const int nc = exemplar.channels();
-  const int tiles = (n + kTile - 1) / kTile;
-  const std::size_t tile_count = static_cast<std::size_t>(tiles) * tiles;
+namespace {
+
+/// A patch triangle in a tile's list: rasterised in one chart
+/// (`regions` < 0) or projected per texel over the regions of
+/// `region_lists[regions]` (the projected fallback).
+struct Job {
+  int patch, tri;
+  int regions;
+};
+
+/// Per surface face under a patch triangle of the projected fallback: the
+/// atlas rectangle (inclusive) outside which none of the face's texels can
+/// project into the patch triangle.
+struct Region {
+  int face;
+  int x0, y0, x1, y1;
+};
+
+/// Every patch triangle binned into the atlas tiles it may touch, each
+/// tile's list in patch order.
+struct TriangleBins {
+  std::vector<std::vector<Job>> jobs;  // per tile
+  std::vector<std::vector<Region>> region_lists;
+  std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
+  std::vector<std::uint8_t> tri_rim;        // bit k: edge k (corners k, k+1) is on the patch's boundary
+  std::vector<std::size_t> tri_px_base;     // first (patch, tri) slot of each patch
+  std::size_t projected = 0;                // triangles sent to the projected fallback
+};
+
+/// One atlas tile's texels [x0, x1) × [y0, y1) and their sums.
+struct TileSums {
+  int x0, y0, x1, y1;
+  Accumulator acc;
+  std::vector<TailOnly> tails;
+  TileSums(int tx0, int ty0, int n, int channels)
+      : x0(tx0), y0(ty0), x1(std::min(n, tx0 + kTile)), y1(std::min(n, ty0 + kTile)),
+        acc(static_cast<std::size_t>(kTile) * kTile, channels) {}
+  /// Tile-local index of atlas texel i (atlas width n).
+  std::size_t local(std::size_t i, int n) const {
+    return static_cast<std::size_t>(static_cast<int>(i / n) - y0) * kTile + (static_cast<int>(i % n) - x0);
+  }
+};
+
+/// The projected fallback's hits of the current patch, per tile-local texel
+/// (its nearest triangle wins), and the texels' surface points and normals,
+/// computed on a texel's first test (a texel is tested against many
+/// triangles).
+struct ProjectedHits {
+  struct Hit {
+    double dist2 = std::numeric_limits<double>::infinity();
+    Vec2 uv = Vec2::Zero();
+    double w = 0.0, core = 0.0;
+  };
+  int patch = -1;
+  std::vector<Hit> hit = std::vector<Hit>(static_cast<std::size_t>(kTile) * kTile);
+  std::vector<std::size_t> texels;  // with a hit, in first-hit order
+  std::vector<Vec3> point, normal;
+  std::vector<char> point_ready;
+
+  void reserve() {
+    point.resize(static_cast<std::size_t>(kTile) * kTile);
+    normal.resize(point.size());
+    point_ready.assign(point.size(), 0);
+  }
+  /// Adds the current patch's hits to the tile's sums and clears them.
+  void flush(const Contributor& contribute, TileSums& tile) {
+    for (std::size_t j : texels) {
+      contribute.add(tile.acc, tile.tails, j, patch, hit[j].uv, hit[j].w, hit[j].core);
+      hit[j] = Hit{};
+    }
+    texels.clear();
+  }
+};
+
+/// Per-tile counts of chart, bare and clamped texels.
+struct Tally {
+  std::size_t chart = 0, bare = 0, clamped = 0;
+};
+
+/// One frame's synthesis: binning, then per tile raster, projected fallback
+/// and resolve.
+class Synthesizer {
+ public:
+  Synthesizer(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map, const std::vector<Patch>& patches,
+              const Exemplar& exemplar, const SynthesisOptions& options)
+      : surface_(surface), atlas_(atlas), map_(map), patches_(patches), exemplar_(exemplar), options_(options),
+        n_(atlas.size), tiles_((n_ + kTile - 1) / kTile), tolerance_(options.projection_tolerance),
+        // Texels just outside a patch's boundary edge still take it (the same
+        // in-plane slack as the projection): the corners of a polygonal rim
+        // between two patch border points would be holes otherwise.
+        slack_px_(0.1 * tolerance_ * atlas.texels_per_unit), pad_(static_cast<int>(std::ceil(slack_px_))),
+        core_(core_weights(patches, options)), contribute_{patches, core_, exemplar, options,
+                                                           options.uv_scale / options.tile_size} {}
+
+  SynthesisResult run();
+
+ private:
+  static std::vector<std::vector<float>> core_weights(const std::vector<Patch>& patches,
+                                                      const SynthesisOptions& options);
+  std::vector<char> live_tiles() const;
+  std::vector<char> chart_border_faces() const;
+  bool box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const;
+  std::vector<Region> projected_regions(const Patch& patch, const Tri& tri, std::vector<int>& touched) const;
+  TriangleBins bin_triangles() const;
+  void accumulate_located(TileSums& tile) const;
+  void accumulate_binned(std::size_t index, TileSums& tile) const;
+  void raster_job(const Job& job, TileSums& tile) const;
+  void projected_job(const Job& job, TileSums& tile, ProjectedHits& projected) const;
+  void resolve_tile(const TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const;
+
+  const SurfaceIndex& surface_;
+  const Atlas& atlas_;
+  const TexelMap& map_;
+  const std::vector<Patch>& patches_;
+  const Exemplar& exemplar_;
+  const SynthesisOptions& options_;
+  const int n_, tiles_;
+  const double tolerance_, slack_px_;
+  const int pad_;
+  const std::vector<std::vector<float>> core_;
+  const Contributor contribute_;
+  TriangleBins bins_;
+  std::unique_ptr<PatchLocator> locator_;
+};
+
+std::vector<std::vector<float>> Synthesizer::core_weights(const std::vector<Patch>& patches,
+                                                          const SynthesisOptions& options) {
   std::vector<std::vector<float>> core(patches.size());
   tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
     core[p].resize(patches[p].positions.size());
     for (std::size_t v = 0; v < core[p].size(); ++v)
       core[p][v] = core_weight(patches[p], v, options.radius, options.uv_scale);
   });
-  const Contributor contribute{patches, core, exemplar, options, options.uv_scale / options.tile_size};
-  const double tolerance = options.projection_tolerance;
-  SynthesisResult result;
+  return core;
+}
 
-  // Tiles holding at least one chart texel; the others are skipped.
-  std::vector<char> tile_live(tile_count, 0);
-  tbb::parallel_for(0, tiles, [&](int ty) {
-    for (int y = ty * kTile; y < std::min(n, (ty + 1) * kTile); ++y) {
-      for (int x = 0; x < n; ++x) {
-        if (map.face[static_cast<std::size_t>(y) * n + x] >= 0)
-          tile_live[static_cast<std::size_t>(ty) * tiles + x / kTile] = 1;
+/// Tiles holding at least one chart texel; the others are skipped.
+std::vector<char> Synthesizer::live_tiles() const {
+  std::vector<char> live(static_cast<std::size_t>(tiles_) * tiles_, 0);
+  tbb::parallel_for(0, tiles_, [&](int ty) {
+    for (int y = ty * kTile; y < std::min(n_, (ty + 1) * kTile); ++y) {
+      for (int x = 0; x < n_; ++x) {
+        if (map_.face[static_cast<std::size_t>(y) * n_ + x] >= 0)
+          live[static_cast<std::size_t>(ty) * tiles_ + x / kTile] = 1;
       }
     }
   });
+  return live;
+}
 
-  // Raster: every patch triangle binned into the atlas tiles it may touch,
-  // in patch order; each tile then runs its list in that order.
-  struct Job {
-    int patch, tri;
-    int regions;  // −1: raster in one chart; else index into region_lists (exact)
-  };
-  std::vector<std::vector<Job>> jobs;
-  // Exact jobs: per surface face under the patch triangle, the atlas
-  // rectangle (inclusive) outside which none of the face's texels can
-  // project into the patch triangle.
-  struct Region {
-    int face;
-    int x0, y0, x1, y1;
-  };
-  std::vector<std::vector<Region>> region_lists;
-  std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
-  std::vector<std::uint8_t> tri_rim;        // bit k: edge k (corners k, k+1) is on the patch's boundary
-  std::vector<std::size_t> tri_px_base(patches.size() + 1, 0);
-  // Texels just outside a patch's boundary edge still take it (the same
-  // in-plane slack as the exact projection): the corners of a polygonal
-  // rim between two patch border points would be holes otherwise.
-  const double slack_px = 0.1 * tolerance * atlas.texels_per_unit;
-  const int pad = static_cast<int>(std::ceil(slack_px));
-  std::unique_ptr<PatchLocator> locator;
-
-  if (options.method == SynthesisMethod::Exact) {
-    // The reference: every texel projected through the patch triangles near it.
-    locator = std::make_unique<PatchLocator>(patches, tolerance);
-  } else {
-    jobs.resize(tile_count);
-    // Bin every patch triangle into the atlas tiles it may touch, in patch
-    // order; then each tile runs its list in that order.
-    for (std::size_t p = 0; p < patches.size(); ++p) tri_px_base[p + 1] = tri_px_base[p] + patches[p].triangles.size();
-    tri_px.resize(tri_px_base.back());
-    tri_rim.assign(tri_px_base.back(), 0);
-    // Faces touching (by a vertex) a face of another chart. A patch triangle
-    // with a corner over one of them may reach into the other chart, which
-    // its atlas corners in one chart cannot show: unless its atlas box shows
-    // it inside its chart, it goes the exact way.
-    const FrameMesh& mesh = surface.mesh();
-    std::vector<int> vertex_chart(mesh.positions.size(), -1);
-    std::vector<char> mixed(mesh.positions.size(), 0);
-    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-      for (int v : mesh.triangles[f]) {
-        if (vertex_chart[v] < 0)
-          vertex_chart[v] = atlas.face_chart[f];
-        else if (vertex_chart[v] != atlas.face_chart[f])
-          mixed[v] = 1;
-      }
-    }
-    std::vector<char> chart_border(mesh.triangles.size(), 0);
-    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-      for (int v : mesh.triangles[f]) chart_border[f] |= mixed[v];
-    }
-    // Per patch, in parallel: its boundary edges and where its triangles go
-    // (tile, job). Then merged in patch order, so every tile's list is in
-    // patch order whatever the thread count.
-    struct Bins {
-      std::vector<std::pair<int, Job>> placed;  // (tile, job); job.texels indexes `lists`
-      std::vector<std::vector<Region>> lists;
-      std::size_t exact = 0;
-    };
-    std::vector<Bins> bins(patches.size());
-    tbb::parallel_for(std::size_t(0), patches.size(), [&](std::size_t p) {
-      const Patch& patch = patches[p];
-      Bins& out = bins[p];
-      const std::vector<std::uint8_t> rim_bits = boundary_edge_bits(patch.triangles);
-      std::copy(rim_bits.begin(), rim_bits.end(), tri_rim.begin() + static_cast<std::ptrdiff_t>(tri_px_base[p]));
-      if (!(patch.kt > 0.0)) return;
-      auto place_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
-        x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
-        x1 = std::min(tiles - 1, x1 / kTile), y1 = std::min(tiles - 1, y1 / kTile);
-        for (int ty = y0; ty <= y1; ++ty) {
-          for (int tx = x0; tx <= x1; ++tx) out.placed.emplace_back(ty * tiles + tx, job);
-        }
-      };
-      for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-        const Tri& tri = patch.triangles[t];
-        if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
-        const int c0 = atlas.face_chart[patch.projections[tri[0]].face];
-        bool one_chart = true, near_border = false;
-        for (int k = 0; k < 3; ++k) {
-          const int f = patch.projections[tri[k]].face;
-          one_chart = one_chart && atlas.face_chart[f] == c0;
-          near_border = near_border || chart_border[f];
-        }
-        auto& px = tri_px[tri_px_base[p] + t];
-        Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
-        if (one_chart) {
-          for (int k = 0; k < 3; ++k) {
-            const SurfacePoint& s = patch.projections[tri[k]];
-            const auto& corner = atlas.corner_px[s.face];
-            px[k] = interpolate(s.bary, corner[0], corner[1], corner[2]);
-          }
-          lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-        }
-        if (one_chart && near_border) {
-          // Corners in one chart next to another: the triangle stays in its
-          // chart when every texel of its box (grown by a texel and the rim
-          // slack) belongs to that chart; if it crosses the chart's border,
-          // its atlas box reaches the gutter.
-          const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad - 1);
-          const int x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad + 1);
-          const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad - 1);
-          const int y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad + 1);
-          for (int y = y0; y <= y1 && one_chart; ++y) {
-            for (int x = x0; x <= x1 && one_chart; ++x) {
-              const int f = map.face[static_cast<std::size_t>(y) * n + x];
-              one_chart = f >= 0 && atlas.face_chart[f] == c0;
-            }
-          }
-        }
-        if (one_chart) {
-          place_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad,
-                    static_cast<int>(std::floor(lo.y() - 0.5)) - pad, static_cast<int>(std::ceil(hi.x())) + pad,
-                    static_cast<int>(std::ceil(hi.y())) + pad);
-        } else {
-          ++out.exact;
-          Vec3 lo = patch.positions[tri[0]], hi = lo;
-          for (int k = 1; k < 3; ++k)
-            lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
-          // Surface triangles under the patch triangle: its box grown by the
-          // in-plane slack and the chord's sagitta (a quarter of the normal
-          // tolerance); the normal tolerance itself is applied per texel.
-          const Vec3 grow = Vec3::Constant(0.25 * tolerance);
-          // A texel's point covers only if it lies in the prism of the
-          // triangle (grown by the in-plane slack) ± tolerance along its
-          // normal; on the face's plane that is inside the orthogonal
-          // projection of the prism's corners, whose atlas box bounds the texels.
-          const Vec3 tn = (patch.positions[tri[1]] - patch.positions[tri[0]])
-                              .cross(patch.positions[tri[2]] - patch.positions[tri[0]])
-                              .normalized();
-          const Vec3 tu = (patch.positions[tri[1]] - patch.positions[tri[0]]).normalized(), tv = tn.cross(tu);
-          const double slack = 0.1 * tolerance;  // project_to_patch_triangle's in-plane slack
-          std::vector<Vec3> prism;
-          for (int k = 0; k < 3; ++k) {
-            for (int corner = 0; corner < 8; ++corner) {
-              prism.push_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
-                              ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance : -tolerance) * tn);
-            }
-          }
-          const double margin = 1.0;  // texel centres
-          std::vector<Region> regions;
-          std::vector<int> touched;
-          for (int f : surface.faces_in_box(lo - grow, hi + grow)) {
-            if (map.face_start[f] == map.face_start[f + 1]) continue;
-            const Tri& ft = surface.mesh().triangles[f];
-            const Vec3& a = surface.mesh().positions[ft[0]];
-            const Vec3 e1 = surface.mesh().positions[ft[1]] - a, e2 = surface.mesh().positions[ft[2]] - a;
-            const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2), den = d00 * d11 - d01 * d01;
-            const auto& corner = atlas.corner_px[f];
-            Vec2 rlo = Vec2::Constant(std::numeric_limits<double>::max()), rhi = -rlo;
-            if (den > 0.0 && std::isfinite(tn.squaredNorm())) {
-              for (const Vec3& q : prism) {  // unclamped barycentrics of q's projection on the face plane
-                const Vec3 v = q - a;
-                const double d20 = v.dot(e1), d21 = v.dot(e2);
-                const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den;
-                const Vec2 px = (1.0 - l1 - l2) * corner[0] + l1 * corner[1] + l2 * corner[2];
-                rlo = rlo.cwiseMin(px), rhi = rhi.cwiseMax(px);
-              }
-            } else {  // degenerate: the whole face
-              for (int k = 0; k < 3; ++k) rlo = rlo.cwiseMin(corner[k]), rhi = rhi.cwiseMax(corner[k]);
-            }
-            // Clipped to the face's own texels.
-            const Vec2 flo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
-            const Vec2 fhi = corner[0].cwiseMax(corner[1]).cwiseMax(corner[2]);
-            rlo = rlo.cwiseMax(flo), rhi = rhi.cwiseMin(fhi);
-            const Region r{f, std::max(0, static_cast<int>(std::floor(rlo.x() - 0.5 - margin))),
-                           std::max(0, static_cast<int>(std::floor(rlo.y() - 0.5 - margin))),
-                           std::min(n - 1, static_cast<int>(std::ceil(rhi.x() - 0.5 + margin))),
-                           std::min(n - 1, static_cast<int>(std::ceil(rhi.y() - 0.5 + margin)))};
-            if (r.x0 > r.x1 || r.y0 > r.y1) continue;
-            regions.push_back(r);
-            for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
-              for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) touched.push_back(ty * tiles + tx);
-            }
-          }
-          if (regions.empty()) continue;
-          std::sort(touched.begin(), touched.end());
-          touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-          const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(out.lists.size())};
-          for (int tile : touched) out.placed.emplace_back(tile, job);
-          out.lists.push_back(std::move(regions));
-        }
-      }
-    });
-    for (Bins& b : bins) {
-      const int offset = static_cast<int>(region_lists.size());
-      for (auto& list : b.lists) region_lists.push_back(std::move(list));
-      for (auto [tile, job] : b.placed) {
-        if (job.regions >= 0) job.regions += offset;
-        jobs[tile].push_back(job);
-      }
-      result.exact_triangles += b.exact;
+/// Faces touching (by a vertex) a face of another chart. A patch triangle
+/// with a corner over one of them may reach into the other chart, which its
+/// atlas corners in one chart cannot show: unless its atlas box shows it
+/// inside its chart, it goes the projected way.
+std::vector<char> Synthesizer::chart_border_faces() const {
+  const FrameMesh& mesh = surface_.mesh();
+  std::vector<int> vertex_chart(mesh.positions.size(), -1);
+  std::vector<char> mixed(mesh.positions.size(), 0);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int v : mesh.triangles[f]) {
+      if (vertex_chart[v] < 0)
+        vertex_chart[v] = atlas_.face_chart[f];
+      else if (vertex_chart[v] != atlas_.face_chart[f])
+        mixed[v] = 1;
     }
   }
+  std::vector<char> chart_border(mesh.triangles.size(), 0);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int v : mesh.triangles[f]) chart_border[f] |= mixed[v];
+  }
+  return chart_border;
+}
 
-  // Per tile, in parallel: accumulate into tile-local sums (each texel's
-  // contributions in patch order), then resolve Eq. 7 (or linear), clamp,
-  // and fill the outputs of the tile's texels.
-  Image& color = result.color;
+/// Whether every texel of the atlas box lo..hi, grown by a texel and the rim
+/// slack, belongs to `chart` (a triangle crossing the chart's border reaches
+/// the gutter).
+bool Synthesizer::box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const {
+  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad_ - 1);
+  const int x1 = std::min(n_ - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad_ + 1);
+  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad_ - 1);
+  const int y1 = std::min(n_ - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad_ + 1);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const int f = map_.face[static_cast<std::size_t>(y) * n_ + x];
+      if (!(f >= 0 && atlas_.face_chart[f] == chart)) return false;
+    }
+  }
+  return true;
+}
+
+/// The regions of the projected fallback of patch triangle `tri`, and the
+/// tiles they touch (appended to `touched`, unsorted).
+std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri& tri,
+                                                   std::vector<int>& touched) const {
+  Vec3 lo = patch.positions[tri[0]], hi = lo;
+  for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(patch.positions[tri[k]]), hi = hi.cwiseMax(patch.positions[tri[k]]);
+  // Surface triangles under the patch triangle: its box grown by the
+  // in-plane slack and the chord's sagitta (a quarter of the normal
+  // tolerance); the normal tolerance itself is applied per texel.
+  const Vec3 grow = Vec3::Constant(0.25 * tolerance_);
+  // A texel's point covers only if it lies in the prism of the
+  // triangle (grown by the in-plane slack) ± tolerance along its
+  // normal; on the face's plane that is inside the orthogonal
+  // projection of the prism's corners, whose atlas box bounds the texels.
+  const Vec3 tn = (patch.positions[tri[1]] - patch.positions[tri[0]])
+                      .cross(patch.positions[tri[2]] - patch.positions[tri[0]])
+                      .normalized();
+  const Vec3 tu = (patch.positions[tri[1]] - patch.positions[tri[0]]).normalized(), tv = tn.cross(tu);
+  const double slack = 0.1 * tolerance_;  // project_to_patch_triangle's in-plane slack
+  std::vector<Vec3> prism;
+  for (int k = 0; k < 3; ++k) {
+    for (int corner = 0; corner < 8; ++corner) {
+      prism.push_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
+                      ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance_ : -tolerance_) * tn);
+    }
+  }
+  const double margin = 1.0;  // texel centres
+  std::vector<Region> regions;
+  for (int f : surface_.faces_in_box(lo - grow, hi + grow)) {
+    if (map_.face_start[f] == map_.face_start[f + 1]) continue;
+    const Tri& ft = surface_.mesh().triangles[f];
+    const Vec3& a = surface_.mesh().positions[ft[0]];
+    const Vec3 e1 = surface_.mesh().positions[ft[1]] - a, e2 = surface_.mesh().positions[ft[2]] - a;
+    const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2), den = d00 * d11 - d01 * d01;
+    const auto& corner = atlas_.corner_px[f];
+    Vec2 rlo = Vec2::Constant(std::numeric_limits<double>::max()), rhi = -rlo;
+    if (den > 0.0 && std::isfinite(tn.squaredNorm())) {
+      for (const Vec3& q : prism) {  // unclamped barycentrics of q's projection on the face plane
+        const Vec3 v = q - a;
+        const double d20 = v.dot(e1), d21 = v.dot(e2);
+        const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den;
+        const Vec2 px = (1.0 - l1 - l2) * corner[0] + l1 * corner[1] + l2 * corner[2];
+        rlo = rlo.cwiseMin(px), rhi = rhi.cwiseMax(px);
+      }
+    } else {  // degenerate: the whole face
+      for (int k = 0; k < 3; ++k) rlo = rlo.cwiseMin(corner[k]), rhi = rhi.cwiseMax(corner[k]);
+    }
+    // Clipped to the face's own texels.
+    const Vec2 flo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
+    const Vec2 fhi = corner[0].cwiseMax(corner[1]).cwiseMax(corner[2]);
+    rlo = rlo.cwiseMax(flo), rhi = rhi.cwiseMin(fhi);
+    const Region r{f, std::max(0, static_cast<int>(std::floor(rlo.x() - 0.5 - margin))),
+                   std::max(0, static_cast<int>(std::floor(rlo.y() - 0.5 - margin))),
+                   std::min(n_ - 1, static_cast<int>(std::ceil(rhi.x() - 0.5 + margin))),
+                   std::min(n_ - 1, static_cast<int>(std::ceil(rhi.y() - 0.5 + margin)))};
+    if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+    regions.push_back(r);
+    for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
+      for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) touched.push_back(ty * tiles_ + tx);
+    }
+  }
+  return regions;
+}
+
+/// Bins every patch triangle with weight into the atlas tiles it may touch:
+/// per patch in parallel (its boundary edges and where its triangles go),
+/// then merged in patch order, so every tile's list is in patch order
+/// whatever the thread count.
+TriangleBins Synthesizer::bin_triangles() const {
+  TriangleBins bins;
+  bins.jobs.resize(static_cast<std::size_t>(tiles_) * tiles_);
+  bins.tri_px_base.assign(patches_.size() + 1, 0);
+  for (std::size_t p = 0; p < patches_.size(); ++p)
+    bins.tri_px_base[p + 1] = bins.tri_px_base[p] + patches_[p].triangles.size();
+  bins.tri_px.resize(bins.tri_px_base.back());
+  bins.tri_rim.assign(bins.tri_px_base.back(), 0);
+  const std::vector<char> chart_border = chart_border_faces();
+  struct PatchBins {
+    std::vector<std::pair<int, Job>> placed;  // (tile, job); job.regions indexes `lists`
+    std::vector<std::vector<Region>> lists;
+    std::size_t projected = 0;
+  };
+  std::vector<PatchBins> per_patch(patches_.size());
+  tbb::parallel_for(std::size_t(0), patches_.size(), [&](std::size_t p) {
+    const Patch& patch = patches_[p];
+    PatchBins& out = per_patch[p];
+    const std::vector<std::uint8_t> rim_bits = boundary_edge_bits(patch.triangles);
+    std::copy(rim_bits.begin(), rim_bits.end(),
+              bins.tri_rim.begin() + static_cast<std::ptrdiff_t>(bins.tri_px_base[p]));
+    if (!(patch.kt > 0.0)) return;
+    auto place_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
+      x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
+      x1 = std::min(tiles_ - 1, x1 / kTile), y1 = std::min(tiles_ - 1, y1 / kTile);
+      for (int ty = y0; ty <= y1; ++ty) {
+        for (int tx = x0; tx <= x1; ++tx) out.placed.emplace_back(ty * tiles_ + tx, job);
+      }
+    };
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      const Tri& tri = patch.triangles[t];
+      if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
+      const int c0 = atlas_.face_chart[patch.projections[tri[0]].face];
+      bool one_chart = true, near_border = false;
+      for (int k = 0; k < 3; ++k) {
+        const int f = patch.projections[tri[k]].face;
+        one_chart = one_chart && atlas_.face_chart[f] == c0;
+        near_border = near_border || chart_border[f];
+      }
+      auto& px = bins.tri_px[bins.tri_px_base[p] + t];
+      Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
+      if (one_chart) {
+        for (int k = 0; k < 3; ++k) {
+          const SurfacePoint& s = patch.projections[tri[k]];
+          const auto& corner = atlas_.corner_px[s.face];
+          px[k] = interpolate(s.bary, corner[0], corner[1], corner[2]);
+        }
+        lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+      }
+      // Corners in one chart next to another: the triangle stays in its
+      // chart when its atlas box does.
+      if (one_chart && near_border) one_chart = box_in_chart(lo, hi, c0);
+      if (one_chart) {
+        place_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad_,
+                  static_cast<int>(std::floor(lo.y() - 0.5)) - pad_, static_cast<int>(std::ceil(hi.x())) + pad_,
+                  static_cast<int>(std::ceil(hi.y())) + pad_);
+        continue;
+      }
+      ++out.projected;
+      std::vector<int> touched;
+      std::vector<Region> regions = projected_regions(patch, tri, touched);
+      if (regions.empty()) continue;
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      const Job job{static_cast<int>(p), static_cast<int>(t), static_cast<int>(out.lists.size())};
+      for (int tile : touched) out.placed.emplace_back(tile, job);
+      out.lists.push_back(std::move(regions));
+    }
+  });
+  for (PatchBins& b : per_patch) {
+    const int offset = static_cast<int>(bins.region_lists.size());
+    for (auto& list : b.lists) bins.region_lists.push_back(std::move(list));
+    for (auto [tile, job] : b.placed) {
+      if (job.regions >= 0) job.regions += offset;
+      bins.jobs[tile].push_back(job);
+    }
+    bins.projected += b.projected;
+  }
+  return bins;
+}
+
+/// The reference (SynthesisMethod::Exact): every texel of the tile projected
+/// through the patch triangles near it.
+void Synthesizer::accumulate_located(TileSums& tile) const {
+  std::vector<PatchHit> hits;
+  for (int y = tile.y0; y < tile.y1; ++y) {
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+      if (map_.face[i] < 0) continue;
+      const SurfacePoint s = surface_.at(map_.face[i], map_.bary[i]);
+      locator_->locate(s.position, surface_.normal_at(s), hits);
+      for (const PatchHit& h : hits) {
+        const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
+        contribute_.add(tile.acc, tile.tails, tile.local(i, n_), h.patch, h.uv, w, c);
+      }
+    }
+  }
+}
+
+/// Raster (SynthesisMethod::Raster): the tile's binned jobs in order. A
+/// projected hit waits until the patch's last job: as in locate(), the
+/// patch's nearest triangle gives a texel its uv and weight. A raster hit of
+/// the same patch, added at once, takes precedence.
+void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile) const {
+  const std::vector<Job>& jobs = bins_.jobs[index];
+  ProjectedHits projected;
+  if (std::any_of(jobs.begin(), jobs.end(), [](const Job& job) { return job.regions >= 0; })) projected.reserve();
+  for (const Job& job : jobs) {
+    if (job.patch != projected.patch) {
+      projected.flush(contribute_, tile);
+      projected.patch = job.patch;
+    }
+    if (job.regions < 0)
+      raster_job(job, tile);
+    else
+      projected_job(job, tile, projected);
+  }
+  projected.flush(contribute_, tile);
+}
+
+/// A patch triangle whose corners lie in one chart, rasterised in atlas space.
+void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
+  const Patch& patch = patches_[job.patch];
+  const Tri& tri = patch.triangles[job.tri];
+  const auto& px = bins_.tri_px[bins_.tri_px_base[job.patch] + job.tri];
+  const int chart = atlas_.face_chart[patch.projections[tri[0]].face];
+  const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+  const std::uint8_t rim = bins_.tri_rim[bins_.tri_px_base[job.patch] + job.tri];
+  const int x0 = std::max(tile.x0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad_);
+  const int x1 = std::min(tile.x1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad_);
+  const int y0 = std::max(tile.y0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad_);
+  const int y1 = std::min(tile.y1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad_);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+      if (map_.face[i] < 0 || atlas_.face_chart[map_.face[i]] != chart) continue;
+      Vec3 l;
+      const Vec2 centre(x + 0.5, y + 0.5);
+      if (!bary2(centre, px[0], px[1], px[2], l)) continue;
+      if (l.minCoeff() < -1e-9) {
+        // Outside: only across the patch's own boundary edges, within the slack.
+        bool across_rim = rim != 0;
+        for (int j = 0; j < 3; ++j) {
+          if (l[j] < -1e-9 && !(rim & (1u << ((j + 1) % 3)))) across_rim = false;
+        }
+        if (!across_rim) continue;
+        const auto lift = [](const Vec2& v) { return Vec3(v.x(), v.y(), 0.0); };
+        l = barycentric(lift(centre), lift(px[0]), lift(px[1]), lift(px[2]));
+        const Vec2 closest = interpolate(l, px[0], px[1], px[2]);
+        if ((closest - centre).norm() > slack_px_) continue;
+      }
+      const Vec2 uv = interpolate(patch.uvs, tri, l);
+      const auto [w, c] = contribute_.weights(job.patch, tri, l);
+      contribute_.add(tile.acc, tile.tails, tile.local(i, n_), job.patch, uv, w, c);
+    }
+  }
+}
+
+/// A patch triangle of the projected fallback: the texels of its regions
+/// projected onto it; hits wait in `projected` for the patch's last job.
+void Synthesizer::projected_job(const Job& job, TileSums& tile, ProjectedHits& projected) const {
+  const Patch& patch = patches_[job.patch];
+  const Tri& tri = patch.triangles[job.tri];
+  for (const Region& r : bins_.region_lists[job.regions]) {
+    for (int y = std::max(r.y0, tile.y0); y <= std::min(r.y1, tile.y1 - 1); ++y) {
+      for (int x = std::max(r.x0, tile.x0); x <= std::min(r.x1, tile.x1 - 1); ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+        if (map_.face[i] != r.face) continue;
+        const std::size_t j = tile.local(i, n_);
+        if (!projected.point_ready[j]) {
+          const SurfacePoint s = surface_.at(r.face, map_.bary[i]);
+          projected.point[j] = s.position, projected.normal[j] = surface_.normal_at(s), projected.point_ready[j] = 1;
+        }
+        Vec3 l;
+        double dist2;
+        if (!project_to_patch_triangle(patch, tri, projected.point[j], projected.normal[j], tolerance_, l, dist2))
+          continue;
+        ProjectedHits::Hit& slot = projected.hit[j];
+        if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
+        if (std::isinf(slot.dist2)) projected.texels.push_back(j);
+        slot.dist2 = dist2;
+        slot.uv = interpolate(patch.uvs, tri, l);
+        std::tie(slot.w, slot.core) = contribute_.weights(job.patch, tri, l);
+      }
+    }
+  }
+}
+
+/// Resolves Eq. 7 (or linear) for every chart texel of the tile, clamps, and
+/// fills the outputs.
+void Synthesizer::resolve_tile(const TileSums& tile, SynthesisResult& result, std::vector<char>& mask,
+                               Tally& tally) const {
+  const int nc = exemplar_.channels();
+  const Accumulator& acc = tile.acc;
+  std::vector<double> sum(nc);
+  for (int y = tile.y0; y < tile.y1; ++y) {
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+      if (map_.face[i] < 0) continue;
+      const std::size_t j = tile.local(i, n_);
+      ++tally.chart;
+      mask[i] = 1;
+      const double lambda = contribute_.tail_share(acc, j);
+      for (int c = 0; c < nc; ++c) sum[c] = acc.sum[j * nc + c] + lambda * acc.tail_sum[j * nc + c];
+      const double sum_w = acc.sum_w[j] + lambda * acc.tail_w[j];
+      const double sum_w2 = acc.sum_w2[j] + 2.0 * lambda * acc.cross[j] + lambda * lambda * acc.tail_w2[j];
+      if (options_.aov) {
+        result.weight.pixels[i] = static_cast<float>(sum_w);
+        result.count.pixels[i] = static_cast<float>(acc.count[j] + (lambda > 0.0 ? acc.tail_count[j] : 0));
+        if (acc.best_patch[j] >= 0) {
+          const auto rgb = id_color(patches_[acc.best_patch[j]].id);
+          for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
+        }
+      }
+      if (!(sum_w > 0.0)) {
+        ++tally.bare;
+        for (int c = 0; c < nc; ++c) result.color.pixels[i * nc + c] = exemplar_.mean()[c];
+        continue;
+      }
+      tally.clamped +=
+          resolve_blend(options_.blend, sum.data(), sum_w, sum_w2, exemplar_.mean(), nc, &result.color.pixels[i * nc]);
+    }
+  }
+}
+
+SynthesisResult Synthesizer::run() {
+  SynthesisResult result;
+  const std::size_t texel_count = static_cast<std::size_t>(n_) * n_;
+  const std::size_t tile_count = static_cast<std::size_t>(tiles_) * tiles_;
+  const int nc = exemplar_.channels();
+  const std::vector<char> tile_live = live_tiles();
+  if (options_.method == SynthesisMethod::Exact) {
+    locator_ = std::make_unique<PatchLocator>(patches_, tolerance_);
+  } else {
+    bins_ = bin_triangles();
+    result.exact_triangles = bins_.projected;
+  }
   auto layer = [&](Image& im, int channels) {
-    im.width = im.height = n;
+    im.width = im.height = n_;
     im.channels = channels;
     im.pixels.assign(texel_count * channels, 0.0f);
   };
-  layer(color, nc);
-  if (options.aov) {
+  layer(result.color, nc);
+  if (options_.aov) {
     layer(result.weight, 1);
     layer(result.count, 1);
     layer(result.patch, 3);
   }
+  // Per tile, in parallel: accumulate into tile-local sums (each texel's
+  // contributions in patch order), then resolve.
   std::vector<char> mask(texel_count, 0);
-  struct Tally {
-    std::size_t chart = 0, bare = 0, clamped = 0;
-  };
   std::vector<Tally> tally(tile_count);
-  tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t tile) {
-    if (!tile_live[tile]) return;
-    const int tx0 = static_cast<int>(tile % tiles) * kTile, ty0 = static_cast<int>(tile / tiles) * kTile;
-    const int tx1 = std::min(n, tx0 + kTile), ty1 = std::min(n, ty0 + kTile);
-    Accumulator acc(static_cast<std::size_t>(kTile) * kTile, nc);
-    std::vector<TailOnly> tails;
-    auto local = [&](std::size_t i) {
-      return static_cast<std::size_t>(static_cast<int>(i / n) - ty0) * kTile + (static_cast<int>(i % n) - tx0);
-    };
-    if (locator) {
-      std::vector<PatchHit> hits;
-      for (int y = ty0; y < ty1; ++y) {
-        for (int x = tx0; x < tx1; ++x) {
-          const std::size_t i = static_cast<std::size_t>(y) * n + x;
-          if (map.face[i] < 0) continue;
-          const SurfacePoint s = surface.at(map.face[i], map.bary[i]);
-          locator->locate(s.position, surface.normal_at(s), hits);
-          for (const PatchHit& h : hits) {
-            const auto [w, c] = contribute.weights(h.patch, patches[h.patch].triangles[h.tri], h.bary);
-            contribute.add(acc, tails, local(i), h.patch, h.uv, w, c);
-          }
-        }
-      }
-    } else {
-      // Exact hits wait until the patch's last job: as in locate(), the
-      // patch's nearest triangle gives a texel its uv and weight. A raster
-      // hit of the same patch, added at once, takes precedence.
-      struct Pending {
-        double dist2 = std::numeric_limits<double>::infinity();
-        Vec2 uv = Vec2::Zero();
-        double w = 0.0, core = 0.0;
-      };
-      std::vector<Pending> pending(static_cast<std::size_t>(kTile) * kTile);
-      std::vector<std::size_t> pending_texels;
-      // Surface point and normal of each texel, computed on its first
-      // projected-fallback test (a texel is tested against many triangles).
-      std::vector<Vec3> point, normal;
-      std::vector<char> point_ready;
-      if (std::any_of(jobs[tile].begin(), jobs[tile].end(), [](const Job& job) { return job.regions >= 0; })) {
-        point.resize(static_cast<std::size_t>(kTile) * kTile);
-        normal.resize(point.size());
-        point_ready.assign(point.size(), 0);
-      }
-      int pending_patch = -1;
-      auto flush = [&] {
-        for (std::size_t j : pending_texels) {
-          contribute.add(acc, tails, j, pending_patch, pending[j].uv, pending[j].w, pending[j].core);
-          pending[j] = Pending{};
-        }
-        pending_texels.clear();
-      };
-      for (const Job& job : jobs[tile]) {
-        const Patch& patch = patches[job.patch];
-        const Tri& tri = patch.triangles[job.tri];
-        if (job.patch != pending_patch) {
-          flush();
-          pending_patch = job.patch;
-        }
-        if (job.regions < 0) {
-          const auto& px = tri_px[tri_px_base[job.patch] + job.tri];
-          const int chart = atlas.face_chart[patch.projections[tri[0]].face];
-          const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-          const std::uint8_t rim = tri_rim[tri_px_base[job.patch] + job.tri];
-          const int x0 = std::max(tx0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad);
-          const int x1 = std::min(tx1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad);
-          const int y0 = std::max(ty0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad);
-          const int y1 = std::min(ty1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad);
-          for (int y = y0; y <= y1; ++y) {
-            for (int x = x0; x <= x1; ++x) {
-              const std::size_t i = static_cast<std::size_t>(y) * n + x;
-              if (map.face[i] < 0 || atlas.face_chart[map.face[i]] != chart) continue;
-              Vec3 l;
-              const Vec2 centre(x + 0.5, y + 0.5);
-              if (!bary2(centre, px[0], px[1], px[2], l)) continue;
-              if (l.minCoeff() < -1e-9) {
-                // Outside: only across the patch's own boundary edges, within the slack.
-                bool across_rim = rim != 0;
-                for (int j = 0; j < 3; ++j) {
-                  if (l[j] < -1e-9 && !(rim & (1u << ((j + 1) % 3)))) across_rim = false;
-                }
-                if (!across_rim) continue;
-                const auto lift = [](const Vec2& v) { return Vec3(v.x(), v.y(), 0.0); };
-                l = barycentric(lift(centre), lift(px[0]), lift(px[1]), lift(px[2]));
-                const Vec2 closest = interpolate(l, px[0], px[1], px[2]);
-                if ((closest - centre).norm() > slack_px) continue;
-              }
-              const Vec2 uv = interpolate(patch.uvs, tri, l);
-              const auto [w, c] = contribute.weights(job.patch, tri, l);
-              contribute.add(acc, tails, local(i), job.patch, uv, w, c);
-            }
-          }
-        } else {
-          for (const Region& r : region_lists[job.regions]) {
-            for (int y = std::max(r.y0, ty0); y <= std::min(r.y1, ty1 - 1); ++y) {
-              for (int x = std::max(r.x0, tx0); x <= std::min(r.x1, tx1 - 1); ++x) {
-                const std::size_t i = static_cast<std::size_t>(y) * n + x;
-                if (map.face[i] != r.face) continue;
-                const std::size_t j = local(i);
-                if (!point_ready[j]) {
-                  const SurfacePoint s = surface.at(r.face, map.bary[i]);
-                  point[j] = s.position, normal[j] = surface.normal_at(s), point_ready[j] = 1;
-                }
-                Vec3 l;
-                double dist2;
-                if (project_to_patch_triangle(patch, tri, point[j], normal[j], tolerance, l, dist2)) {
-                  Pending& slot = pending[j];
-                  if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
-                  if (std::isinf(slot.dist2)) pending_texels.push_back(j);
-                  slot.dist2 = dist2;
-                  slot.uv = interpolate(patch.uvs, tri, l);
-                  std::tie(slot.w, slot.core) = contribute.weights(job.patch, tri, l);
-                }
-              }
-            }
-          }
-        }
-      }
-      flush();
-    }
-    contribute.add_tails(acc, tails);
-    Tally& t = tally[tile];
-    std::vector<double> sum(nc);
-    for (int y = ty0; y < ty1; ++y) {
-      for (int x = tx0; x < tx1; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * n + x;
-        if (map.face[i] < 0) continue;
-        const std::size_t j = local(i);
-        ++t.chart;
-        mask[i] = 1;
-        const double lambda = contribute.tail_share(acc, j);
-        for (int c = 0; c < nc; ++c) sum[c] = acc.sum[j * nc + c] + lambda * acc.tail_sum[j * nc + c];
-        const double sum_w = acc.sum_w[j] + lambda * acc.tail_w[j];
-        const double sum_w2 = acc.sum_w2[j] + 2.0 * lambda * acc.cross[j] + lambda * lambda * acc.tail_w2[j];
-        if (options.aov) {
-          result.weight.pixels[i] = static_cast<float>(sum_w);
-          result.count.pixels[i] = static_cast<float>(acc.count[j] + (lambda > 0.0 ? acc.tail_count[j] : 0));
-          if (acc.best_patch[j] >= 0) {
-            const auto rgb = id_color(patches[acc.best_patch[j]].id);
-            for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
-          }
-        }
-        if (!(sum_w > 0.0)) {
-          ++t.bare;
-          for (int c = 0; c < nc; ++c) color.pixels[i * nc + c] = exemplar.mean()[c];
-          continue;
-        }
-        t.clamped +=
-            resolve_blend(options.blend, sum.data(), sum_w, sum_w2, exemplar.mean(), nc, &color.pixels[i * nc]);
-      }
-    }
+  tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t index) {
+    if (!tile_live[index]) return;
+    TileSums tile(static_cast<int>(index % tiles_) * kTile, static_cast<int>(index / tiles_) * kTile, n_, nc);
+    if (locator_)
+      accumulate_located(tile);
+    else
+      accumulate_binned(index, tile);
+    contribute_.add_tails(tile.acc, tile.tails);
+    resolve_tile(tile, result, mask, tally[index]);
   });
   for (const Tally& t : tally) {
     result.chart_texels += t.chart;
     result.uncovered_texels += t.bare;
     result.clamped_texels += t.clamped;
   }
-  dilate(color, mask, 8);
+  dilate(result.color, mask, 8);
   return result;
+}
+
+}  // namespace
+
+SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
+                           const std::vector<Patch>& patches, const Exemplar& exemplar,
+                           const SynthesisOptions& options) {
+  if (!(options.tile_size > 0.0)) throw InternalError("synthesis: tile size must be > 0");
+  if (!(options.radius > 0.0)) throw InternalError("synthesis: disk radius must be > 0");
+  return Synthesizer(surface, atlas, map, patches, exemplar, options).run();
 }
 
 }  // namespace fluidtex
