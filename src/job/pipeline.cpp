@@ -1,7 +1,9 @@
 #include "fluidtex/job/pipeline.h"
 
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <numeric>
 #include <optional>
 
@@ -178,26 +180,148 @@ void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& f
   });
 }
 
-JobSummary run_job(const JobOptions& options, Reporter& reporter) {
-  const auto start = Clock::now();
-  options.validate();
-  const Sequence sequence(options.input);
-  std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
-  if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
+namespace {
 
-  TrackerSettings settings;
-  settings.method = options.tracking;
-  settings.advection = options.advection;
-  settings.motion = options.patch_motion;
-  settings.seed = options.seed;
-  settings.coverage_aware = options.coverage_check;
-  const bool flowmap = options.method == TexturingMethod::FlowMap;
-  const bool write_state = options.output.write_state && !flowmap;  // flowmap keeps no state
-  std::optional<Tracker> tracker;
-  std::optional<FlowMapAdvector> advector;
-  std::size_t first = 0;
-  JobSummary summary;
+/// One frame in the pipeline: what reading, tracking and texturing leave for
+/// the next stage. Tracking fills a snapshot (surface, patches or flow-map
+/// uvs), so the frame's texturing does not depend on what runs beside it.
+struct Work {
+  std::size_t index = 0;
+  int frame = 0;
+  std::shared_ptr<const FrameMesh> mesh;
+  FrameStats stats;
+  std::shared_ptr<const SurfaceIndex> surface;
+  std::vector<Patch> patches;  // patches
+  TrackingOptions resolved;    // patches
+  FlowMapFrame flow;           // flowmap
+  std::string state;           // patches: the serialised tracker, written last
+};
 
+/// A texturing method as the pipeline drives it: `track` runs serially in
+/// frame order and fills the frame's snapshot, `texture` runs in parallel on
+/// a snapshot, `finish` runs serially in frame order after the frame's
+/// outputs are written.
+class Texturing {
+ public:
+  virtual ~Texturing() = default;
+  virtual void track(Work& work, double dt, bool first, Reporter& reporter) = 0;
+  virtual void texture(Work& work) const = 0;
+  virtual void finish(Work& work) const = 0;
+  /// Disks that got no patch so far (logged once, in aggregate).
+  virtual std::size_t failed() const { return 0; }
+};
+
+/// Gagnon et al. 2019: the tracker, then synthesis (or, with --track-only,
+/// the coverage measure); the state file goes last.
+class PatchTexturing final : public Texturing {
+ public:
+  PatchTexturing(Tracker tracker, const JobOptions& options, const Exemplar* exemplar)
+      : tracker_(std::move(tracker)), options_(options), exemplar_(exemplar), write_state_(options.output.write_state) {
+  }
+
+  void track(Work& work, double dt, bool first, Reporter& reporter) override {
+    const StepReport step = tracker_.step(work.mesh, work.frame, dt);
+    FrameStats& fs = work.stats;
+    for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+    fs.patches = step.counts;
+    fs.extra.emplace_back("patches_created", step.created);
+    fs.extra.emplace_back("patches_removed", step.removed);
+    fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
+    for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
+    const std::vector<double>& areas = tracker_.surface()->face_areas();
+    fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
+    failed_ += static_cast<std::size_t>(step.failed);
+    if (first) {
+      const TrackingOptions& o = tracker_.settings().method;
+      reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " + std::to_string(o.thickness) +
+                       ", max projection mpt " + std::to_string(o.max_projection));
+    }
+    if (options_.output.debug_views) write_debug_views(work);
+    work.surface = tracker_.shared_surface();
+    work.patches = tracker_.patches();
+    work.resolved = tracker_.settings().method;
+    if (write_state_) work.state = tracker_.serialize();
+  }
+
+  void texture(Work& work) const override {
+    if (exemplar_) {
+      synthesize_frame(*work.surface, work.patches, work.resolved, *exemplar_, options_, work.frame, work.stats);
+      return;
+    }
+    // Track only: coverage measured on the surface (area with Σw = 0).
+    const ScopedStage stage(work.stats.seconds, "coverage");
+    const PatchCoverage coverage(work.patches, work.resolved.max_projection);
+    work.stats.uncovered_fraction = uncovered_area_fraction(*work.surface, coverage);
+  }
+
+  void finish(Work& work) const override {
+    // The state goes last: its presence means the frame is complete (--resume).
+    const ScopedStage stage(work.stats.seconds, "state");
+    if (write_state_) write_text_atomically(state_path(options_.output.dir, work.frame), work.state);
+  }
+
+  std::size_t failed() const override { return failed_; }
+
+ private:
+  void write_debug_views(Work& work) const {
+    const ScopedStage stage(work.stats.seconds, "debug");
+    const std::string dir = options_.output.dir + "/debug";
+    write_patch_view(FramePattern(dir + "/patches.####.ply").path(work.frame), tracker_.patches());
+    write_disk_view(FramePattern(dir + "/disks.####.ply").path(work.frame), tracker_.patches(), work.frame);
+  }
+
+  Tracker tracker_;
+  const JobOptions& options_;
+  const Exemplar* exemplar_;
+  bool write_state_;
+  std::size_t failed_ = 0;
+};
+
+/// The two-phase advected-uv baseline: its "track" stage carries the two uv
+/// sets to the frame; it keeps no state.
+class FlowMapTexturing final : public Texturing {
+ public:
+  FlowMapTexturing(const JobOptions& options, const Exemplar& exemplar)
+      : advector_(settings(options)), options_(options), exemplar_(exemplar) {}
+
+  void track(Work& work, double dt, bool first, Reporter& reporter) override {
+    const FlowMapStep step = advector_.step(work.mesh, dt);
+    for (const auto& [stage, secs] : step.seconds) work.stats.seconds.emplace_back(stage, secs);
+    const std::array<double, 2> w = phase_weights(step.step, options_.flowmap.period);
+    work.stats.extra.emplace_back("weight_a", w[0]);
+    work.stats.extra.emplace_back("weight_b", w[1]);
+    if (first) {
+      reporter.verbose("flowmap: tile size " + std::to_string(advector_.tile_size()) + ", period " +
+                       std::to_string(options_.flowmap.period) + ", axis " + to_string(options_.flowmap.axis));
+    }
+    work.surface = advector_.shared_surface();
+    work.flow = advector_.frame();
+  }
+
+  void texture(Work& work) const override {
+    synthesize_flowmap_frame(*work.surface, work.flow, exemplar_, options_, work.frame, work.stats);
+  }
+
+  void finish(Work&) const override {}
+
+ private:
+  static FlowMapSettings settings(const JobOptions& options) {
+    FlowMapSettings fm;
+    fm.flowmap = options.flowmap;
+    fm.method = options.tracking;
+    fm.seed = options.seed;
+    return fm;
+  }
+
+  FlowMapAdvector advector_;
+  const JobOptions& options_;
+  const Exemplar& exemplar_;
+};
+
+/// The patch method's tracker: from the newest state in OUT with --resume
+/// (its frame index + 1 in `first`, its frame in `summary`), else fresh.
+Tracker start_tracker(const JobOptions& options, const Sequence& sequence, Reporter& reporter, std::size_t& first,
+                      JobSummary& summary) {
   if (options.output.resume) {
     // The newest state whose frame is in the sequence: every output of that
     // frame was written before it (the state is written last).
@@ -205,156 +329,98 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
       const std::string path = state_path(options.output.dir, sequence.frames()[i]);
       if (!std::filesystem::exists(path)) continue;
       auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
-      tracker.emplace(Tracker::load(path, std::move(mesh)));
+      Tracker tracker = Tracker::load(path, std::move(mesh));
       first = i + 1;
       summary.resumed_after = sequence.frames()[i];
       reporter.info("resuming after frame " + std::to_string(summary.resumed_after) + " (" + path + ")");
-      break;
+      return tracker;
     }
-    if (!tracker) reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
+    reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
   }
-  if (flowmap) {
-    FlowMapSettings fm;
-    fm.flowmap = options.flowmap;
-    fm.method = options.tracking;
-    fm.seed = options.seed;
-    advector.emplace(fm);
-  } else if (!tracker) {
-    tracker.emplace(settings);
-  }
+  TrackerSettings settings;
+  settings.method = options.tracking;
+  settings.advection = options.advection;
+  settings.motion = options.patch_motion;
+  settings.seed = options.seed;
+  settings.coverage_aware = options.coverage_check;
+  return Tracker(settings);
+}
+
+/// Reads frame `index` of the sequence (cleaned) into a new Work.
+std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, const JobOptions& options,
+                                 Reporter& reporter) {
+  auto work = std::make_shared<Work>();
+  work->index = index;
+  work->frame = sequence.frames()[index];
+  work->stats.frame = work->frame;
+  work->stats.method = to_string(options.method);
+  const ScopedStage stage(work->stats.seconds, "read");
+  CleanReport cleaned;
+  work->mesh = std::make_shared<const FrameMesh>(sequence.load(index, &cleaned));
+  if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
+  work->stats.vertices = work->mesh->num_vertices();
+  work->stats.faces = work->mesh->num_faces();
+  return work;
+}
+
+}  // namespace
+
+JobSummary run_job(const JobOptions& options, Reporter& reporter) {
+  const auto start = Clock::now();
+  options.validate();
+  const Sequence sequence(options.input);
+  std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
+  if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
+  std::size_t first = 0;
+  JobSummary summary;
+  std::unique_ptr<Texturing> method;
+  if (options.method == TexturingMethod::FlowMap)
+    method = std::make_unique<FlowMapTexturing>(options, *exemplar);
+  else
+    method = std::make_unique<PatchTexturing>(start_tracker(options, sequence, reporter, first, summary), options,
+                                              exemplar ? &*exemplar : nullptr);
 
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
   if (!options.manifest.empty()) write_text_atomically(options.output.dir + "/job.toml", options.manifest);
   int previous_frame = summary.resumed_after;
-  std::size_t failed = 0;
 
-  // Frames flow through a TBB pipeline: reading frame t+1, tracking and
-  // synthesis overlap; tracking and the final writes stay in frame order.
-  // At most `tokens` frames are in flight, so memory does not grow with the
-  // sequence. Each frame's synthesis works on its own snapshot (surface and
-  // patches), so its output does not depend on what runs beside it.
-  struct Work {
-    std::size_t index = 0;
-    int frame = 0;
-    std::shared_ptr<const FrameMesh> mesh;
-    FrameStats stats;
-    std::shared_ptr<const SurfaceIndex> surface;
-    std::vector<Patch> patches;
-    TrackingOptions resolved;
-    FlowMapFrame flow;  // --method flowmap
-    std::string state;
-  };
+  // Frames flow through a TBB pipeline: read → track → texture → write.
+  // Reading frame t+1, tracking and texturing overlap; tracking and the final
+  // writes stay in frame order. At most `tokens` frames are in flight, so
+  // memory does not grow with the sequence.
   std::size_t next = first;
   const std::size_t tokens = 3;
-  tbb::parallel_pipeline(
-      tokens, tbb::make_filter<void, std::shared_ptr<Work>>(
-                  tbb::filter_mode::serial_in_order,
-                  [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
-                    if (next >= sequence.size()) {
-                      fc.stop();
-                      return nullptr;
-                    }
-                    auto work = std::make_shared<Work>();
-                    work->index = next++;
-                    work->frame = sequence.frames()[work->index];
-                    work->stats.frame = work->frame;
-                    work->stats.method = to_string(options.method);
-                    const auto t0 = Clock::now();
-                    CleanReport cleaned;
-                    work->mesh = std::make_shared<const FrameMesh>(sequence.load(work->index, &cleaned));
-                    if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
-                    work->stats.vertices = work->mesh->num_vertices();
-                    work->stats.faces = work->mesh->num_faces();
-                    work->stats.seconds.emplace_back("read", seconds_since(t0));
-                    return work;
-                  }) &
-                  tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
-                      tbb::filter_mode::serial_in_order,
-                      [&](std::shared_ptr<Work> work) {
-                        const int frame = work->frame;
-                        reporter.progress(work->index, sequence.size(), "track");
-                        const double dt = previous_frame == -1
-                                              ? 1.0 / options.input.fps
-                                              : static_cast<double>(frame - previous_frame) / options.input.fps;
-                        if (advector) {
-                          // Flow map: the "track" stage carries the two uv sets to this frame.
-                          const FlowMapStep step = advector->step(work->mesh, dt);
-                          previous_frame = frame;
-                          for (const auto& [stage, secs] : step.seconds) work->stats.seconds.emplace_back(stage, secs);
-                          const std::array<double, 2> w = phase_weights(step.step, options.flowmap.period);
-                          work->stats.extra.emplace_back("weight_a", w[0]);
-                          work->stats.extra.emplace_back("weight_b", w[1]);
-                          if (work->index == first) {
-                            reporter.verbose("flowmap: tile size " + std::to_string(advector->tile_size()) +
-                                             ", period " + std::to_string(options.flowmap.period) + ", axis " +
-                                             to_string(options.flowmap.axis));
-                          }
-                          work->surface = advector->shared_surface();
-                          work->flow = advector->frame();
-                          return work;
-                        }
-                        const StepReport step = tracker->step(work->mesh, frame, dt);
-                        previous_frame = frame;
-                        FrameStats& fs = work->stats;
-                        for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
-                        fs.patches = step.counts;
-                        fs.extra.emplace_back("patches_created", step.created);
-                        fs.extra.emplace_back("patches_removed", step.removed);
-                        fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
-                        for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
-                        const std::vector<double>& areas = tracker->surface()->face_areas();
-                        fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
-                        failed += static_cast<std::size_t>(step.failed);
-                        if (work->index == first) {
-                          const TrackingOptions& o = tracker->settings().method;
-                          reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " +
-                                           std::to_string(o.thickness) + ", max projection mpt " +
-                                           std::to_string(o.max_projection));
-                        }
-                        auto t0 = Clock::now();
-                        if (options.output.debug_views) {
-                          const std::string dir = options.output.dir + "/debug";
-                          write_patch_view(FramePattern(dir + "/patches.####.ply").path(frame), tracker->patches());
-                          write_disk_view(FramePattern(dir + "/disks.####.ply").path(frame), tracker->patches(), frame);
-                          fs.seconds.emplace_back("debug", seconds_since(t0));
-                        }
-                        work->surface = tracker->shared_surface();
-                        work->patches = tracker->patches();
-                        work->resolved = tracker->settings().method;
-                        if (write_state) work->state = tracker->serialize();
-                        return work;
-                      }) &
-                  tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
-                      tbb::filter_mode::parallel,
-                      [&](std::shared_ptr<Work> work) {
-                        if (flowmap) {
-                          synthesize_flowmap_frame(*work->surface, work->flow, *exemplar, options, work->frame,
-                                                   work->stats);
-                        } else if (exemplar) {
-                          synthesize_frame(*work->surface, work->patches, work->resolved, *exemplar, options,
-                                           work->frame, work->stats);
-                        } else {
-                          // Track only: coverage measured on the surface (area with Σw = 0).
-                          const auto t0 = Clock::now();
-                          const PatchCoverage coverage(work->patches, work->resolved.max_projection);
-                          work->stats.uncovered_fraction = uncovered_area_fraction(*work->surface, coverage);
-                          work->stats.seconds.emplace_back("coverage", seconds_since(t0));
-                        }
-                        return work;
-                      }) &
-                  tbb::make_filter<std::shared_ptr<Work>, void>(
-                      tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> work) {
-                        // The state goes last: its presence means the frame is complete (--resume).
-                        const auto t0 = Clock::now();
-                        if (write_state)
-                          write_text_atomically(state_path(options.output.dir, work->frame), work->state);
-                        if (!flowmap) work->stats.seconds.emplace_back("state", seconds_since(t0));
-                        stats.add(work->stats);
-                        ++summary.frames;
-                        reporter.progress(work->index + 1, sequence.size(), "written");
-                      }));
-  if (failed > 0) {
-    reporter.warn(std::to_string(failed) + " new disks got no patch (degenerate selection or failed LSCM solve)");
+  using WorkPtr = std::shared_ptr<Work>;
+  auto read = [&](tbb::flow_control& fc) -> WorkPtr {
+    if (next < sequence.size()) return read_frame(sequence, next++, options, reporter);
+    fc.stop();
+    return nullptr;
+  };
+  auto track = [&](WorkPtr work) {
+    reporter.progress(work->index, sequence.size(), "track");
+    const double dt = previous_frame == -1 ? 1.0 / options.input.fps
+                                           : static_cast<double>(work->frame - previous_frame) / options.input.fps;
+    method->track(*work, dt, work->index == first, reporter);
+    previous_frame = work->frame;
+    return work;
+  };
+  auto texture = [&](WorkPtr work) {
+    method->texture(*work);
+    return work;
+  };
+  auto write = [&](WorkPtr work) {
+    method->finish(*work);
+    stats.add(work->stats);
+    ++summary.frames;
+    reporter.progress(work->index + 1, sequence.size(), "written");
+  };
+  tbb::parallel_pipeline(tokens, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &
+                                     tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::serial_in_order, track) &
+                                     tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::parallel, texture) &
+                                     tbb::make_filter<WorkPtr, void>(tbb::filter_mode::serial_in_order, write));
+  if (method->failed() > 0) {
+    reporter.warn(std::to_string(method->failed()) +
+                  " new disks got no patch (degenerate selection or failed LSCM solve)");
   }
   reporter.progress(sequence.size(), sequence.size(), "done");
   summary.seconds = seconds_since(start);
