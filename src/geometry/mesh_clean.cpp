@@ -127,7 +127,7 @@ CleanReport clean_mesh(FrameMesh& mesh, const CleanOptions& options) {
       continue;
     }
     const Vec3& a = mesh.positions[t[0]];
-    const double area = 0.5 * (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a).norm();
+    const double area = triangle_area(a, mesh.positions[t[1]], mesh.positions[t[2]]);
     if (!(area > min_area)) {
       ++report.degenerate_faces;
       continue;

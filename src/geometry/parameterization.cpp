@@ -71,8 +71,7 @@ bool flatten_lscm(const DiskMesh& mesh, std::vector<Vec2>& uvs, std::string* fai
 
   double area3 = 0.0, area_uv = 0.0;
   for (const Tri& t : mesh.triangles) {
-    area3 +=
-        0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    area3 += triangle_area(mesh.positions, t);
     const Vec2 e1 = uvs[t[1]] - uvs[t[0]], e2 = uvs[t[2]] - uvs[t[0]];
     area_uv += 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
   }

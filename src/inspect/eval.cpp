@@ -191,8 +191,7 @@ std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int cou
   std::vector<double> cumulative;
   double total = 0.0;
   for (const Tri& t : mesh.triangles) {
-    total +=
-        0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    total += triangle_area(mesh.positions, t);
     cumulative.push_back(total);
   }
   std::vector<std::pair<int, Vec3>> out;
@@ -397,7 +396,7 @@ double texel_density(const UVMesh& mesh, int size) {
   double a3 = 0.0, a2 = 0.0;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     const Tri& t = mesh.triangles[f];
-    a3 += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    a3 += triangle_area(mesh.positions, t);
     const Tri& u = mesh.uv_triangles[f];
     const Vec2 e1 = mesh.uvs[u[1]] - mesh.uvs[u[0]], e2 = mesh.uvs[u[2]] - mesh.uvs[u[0]];
     a2 += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x()) * size * size;
@@ -581,7 +580,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
     for (std::size_t c = 0; c < contrast.size(); ++c)
       row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
-    const double tile = (2.0 + resolved->selection_margin) * resolved->radius;
+    const double tile = resolved->exemplar_tile_size();
     const double density = texel_density(current.mesh, current.atlas.width);
     const double scale =
         exemplar.image().width * resolved->uv_scale / (tile * density);  // exemplar texels per atlas texel

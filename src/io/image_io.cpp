@@ -24,6 +24,7 @@
 
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 
 namespace fluidtex {
 
@@ -32,11 +33,6 @@ namespace fs = std::filesystem;
 namespace {
 
 double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return s;
-}
 
 /// OIIO error messages may span several lines; errors here are one line.
 std::string one_line(const std::string& message) {
@@ -67,7 +63,7 @@ enum class Transfer { Linear, SRGB, Gamma };
 /// Integer data is sRGB unless tagged linear (or with an explicit gamma);
 /// float data is linear unless explicitly tagged sRGB.
 Transfer transfer_of(const OIIO::ImageSpec& spec, float* gamma) {
-  const std::string cs = lower(spec.get_string_attribute("oiio:ColorSpace"));
+  const std::string cs = to_lower(spec.get_string_attribute("oiio:ColorSpace"));
   if (cs.rfind("gammacorrected", 0) == 0 || cs.rfind("gamma", 0) == 0) {
     *gamma = spec.get_float_attribute("oiio:Gamma", 0.0f);
     if (*gamma > 0.0f && std::isfinite(*gamma)) return Transfer::Gamma;
@@ -82,7 +78,7 @@ Transfer transfer_of(const OIIO::ImageSpec& spec, float* gamma) {
 int alpha_index(const OIIO::ImageSpec& spec) {
   if (spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels) return spec.alpha_channel;
   for (int c = 0; c < spec.nchannels && c < static_cast<int>(spec.channelnames.size()); ++c) {
-    const std::string n = lower(spec.channelnames[c]);
+    const std::string n = to_lower(spec.channelnames[c]);
     if (n == "a" || n == "alpha") return c;
   }
   return -1;
@@ -124,7 +120,7 @@ std::vector<T> encode_integer(const Image& image, int alpha, int max_code) {
 enum class Format { Exr, Png, Tiff };
 
 Format format_of(const std::string& path) {
-  const std::string ext = lower(fs::path(path).extension().string());
+  const std::string ext = lower_extension(path);
   if (ext == ".exr") return Format::Exr;
   if (ext == ".png") return Format::Png;
   if (ext == ".tif" || ext == ".tiff") return Format::Tiff;
@@ -251,7 +247,7 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
   spec.channelnames = channel_names(image, options, path);
   spec.alpha_channel = -1;
   for (int c = 0; c < image.channels; ++c) {
-    const std::string n = lower(spec.channelnames[c]);
+    const std::string n = to_lower(spec.channelnames[c]);
     if (n == "a" || n == "alpha") spec.alpha_channel = c;
   }
   const bool integer = !is_float_type(type);

@@ -36,6 +36,7 @@
 #include <Eigen/Geometry>
 
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 #include "openmesh_reader.h"
 #include "ply_header.h"
 
@@ -299,12 +300,6 @@ FrameMesh read_obj(const std::string& path, const std::string& bytes, const Read
   check_finite(path, mesh.positions, "position");
   mesh.triangles = triangles_from(path, im, mesh.positions, short_faces);
   return mesh;
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 #include "openmesh_reader.h"
 
 namespace fluidtex {
@@ -78,13 +79,6 @@ void write_bytes(const std::string& target, const fs::path& tmp, const std::stri
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.close();
   if (!out) throw InternalError(target + ": cannot write file");
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 /// The map_Kd reference: as given when relative (taken relative to the OBJ's

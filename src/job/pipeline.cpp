@@ -19,17 +19,12 @@
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 std::string checked_pattern(const std::string& given, const std::string& fallback,
                             std::initializer_list<const char*> extensions, const char* option) {
@@ -118,7 +113,7 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   synth.radius = resolved.radius;
   // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
   // a tile, each patch a different part of it (its random anchor).
-  synth.tile_size = (2.0 + resolved.selection_margin) * resolved.radius;
+  synth.tile_size = resolved.exemplar_tile_size();
   synth.projection_tolerance = resolved.max_projection;  // as the tracker's coverage test
   synth.aov = !so.aov.empty();
   return synth;

@@ -60,8 +60,7 @@ bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatCha
     const auto& c = out.corners[i];
     const double a_uv = 0.5 * std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x());
     const Tri& t = disk.triangles[i];
-    const double a3 =
-        0.5 * (disk.positions[t[1]] - disk.positions[t[0]]).cross(disk.positions[t[2]] - disk.positions[t[0]]).norm();
+    const double a3 = triangle_area(disk.positions, t);
     if (a3 > 0.0 && a_uv > 0.0) {
       weighted += a3 * std::max(a_uv / a3, a3 / a_uv);
       total += a3;

@@ -75,7 +75,7 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
   std::shared_ptr<const SurfaceIndex> surface(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
   if (steps_ == 0) {
     settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
-    tile_size_ = (2.0 + settings_.method.selection_margin) * settings_.method.radius;
+    tile_size_ = settings_.method.exemplar_tile_size();
     if (!(tile_size_ > 0.0) || !std::isfinite(tile_size_)) {
       throw InputError("", "flowmap: the first frame is degenerate (zero bounding box): no texture scale");
     }

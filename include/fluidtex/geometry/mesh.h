@@ -22,6 +22,14 @@ using Vec3 = Eigen::Vector3d;
 using Vec2 = Eigen::Vector2d;
 using Tri = std::array<int, 3>;
 
+/// Area of the 3D triangle (a, b, c).
+inline double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
+
+/// Area of triangle `t` of `positions`.
+inline double triangle_area(const std::vector<Vec3>& positions, const Tri& t) {
+  return triangle_area(positions[t[0]], positions[t[1]], positions[t[2]]);
+}
+
 /// l[0]·a + l[1]·b + l[2]·c: a value at barycentric coordinates `l` of a
 /// triangle with corner values a, b, c (positions, uvs, normals, weights).
 /// Scalars (float included) interpolate in double.

@@ -74,6 +74,9 @@ struct TrackingOptions {
   /// A copy with the automatic lengths filled in from the first frame's
   /// bounding-box diagonal.
   TrackingOptions resolved(double first_frame_diagonal) const;
+  /// Scene units one exemplar tile spans at s = 1: (2 + β)·d, so a patch's
+  /// disk shows most of a tile, each patch a different part of it.
+  double exemplar_tile_size() const { return (2.0 + selection_margin) * radius; }
 };
 
 /// Visits every tracking option as (flag name, field reference, help text),

@@ -1,0 +1,16 @@
+/// @file strings.h
+/// @brief Small string helpers shared by the readers and writers.
+#pragma once
+
+#include <string>
+
+namespace fluidtex {
+
+/// `s` in ASCII lower case (locale-independent).
+std::string to_lower(std::string s);
+
+/// The extension of `path` with its dot, in lower case ("" when none):
+/// "a/B.PLY" → ".ply".
+std::string lower_extension(const std::string& path);
+
+}  // namespace fluidtex
