@@ -437,8 +437,6 @@ void parse_camera(const std::string& text, RenderOptions& render) {
   if (v.size() == 7) render.fov_deg = v[6];
 }
 
-}  // namespace
-
 void add_preview(CLI::App& app, int& exit_code) {
   struct PreviewArgs {
     std::string dir, frames, view = "top", mesh, atlas, camera;
@@ -605,6 +603,8 @@ void add_eval(CLI::App& app, int& exit_code) {
     exit_code = 0;
   });
 }
+
+}  // namespace
 
 void add_subcommands(CLI::App& app, int& exit_code) {
   add_preview(app, exit_code);
