@@ -20,6 +20,7 @@
 #include "fluidtex/inspect/eval.h"
 #include "fluidtex/inspect/info.h"
 #include "fluidtex/inspect/overlays.h"
+#include "fluidtex/inspect/preview.h"
 #include "fluidtex/inspect/render.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
@@ -439,31 +440,26 @@ void parse_camera(const std::string& text, RenderOptions& render) {
 
 void add_preview(CLI::App& app, int& exit_code) {
   struct PreviewArgs {
-    std::string dir, frames, view = "top", mesh, atlas, camera;
-    RenderOptions render;
-    InputOptions input;
+    PreviewOptions options;
+    std::string view = "top", camera;
     std::vector<std::string> overlays;
-    double velocity_scale = 4.0;
-    int arrow_spacing = 24;
-    int sheet = 0;
-    bool sheet_only = false;
   };
   auto args = std::make_shared<PreviewArgs>();
   CLI::App* preview = app.add_subcommand("preview", "Render a finished run's textured frames to PNG (OUT/preview/)");
-  preview->add_option("run", args->dir, "The output folder of a fluidtex run")->required();
-  preview->add_option("--frames", args->frames, "Frames to render, e.g. 1-48x8 (default: all)");
+  preview->add_option("run", args->options.run_dir, "The output folder of a fluidtex run")->required();
+  preview->add_option("--frames", args->options.frames, "Frames to render, e.g. 1-48x8 (default: all)");
   preview->add_option("--view", args->view, "Orthographic view along an axis: top, front, side")
       ->check(CLI::IsMember({"top", "front", "side"}))
       ->capture_default_str();
   preview->add_option("--camera", args->camera,
                       "Perspective camera EX,EY,EZ,TX,TY,TZ[,FOV]: eye, target, vertical field of view in "
                       "degrees (default 40); up is +z (+y when looking along z). Replaces --view");
-  preview->add_option("--width", args->render.width, "Image width in pixels")->capture_default_str();
-  preview->add_option("--height", args->render.height,
+  preview->add_option("--width", args->options.render.width, "Image width in pixels")->capture_default_str();
+  preview->add_option("--height", args->options.render.height,
                       "Image height of the perspective camera (default: width * 3/4; orthographic views "
                       "follow the framing)");
-  preview->add_option("--mesh", args->mesh, "UV mesh pattern (default: RUN/mesh.####.obj)");
-  preview->add_option("--atlas", args->atlas, "Atlas pattern (default: RUN/atlas.####.exr)");
+  preview->add_option("--mesh", args->options.mesh_pattern, "UV mesh pattern (default: RUN/mesh.####.obj)");
+  preview->add_option("--atlas", args->options.atlas_pattern, "Atlas pattern (default: RUN/atlas.####.exr)");
   preview
       ->add_option("--overlay", args->overlays,
                    "Draw over the frames (comma list, any of): borders = patch boundary edges, one colour per "
@@ -473,85 +469,37 @@ void add_preview(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::IsMember({"borders", "states", "velocity"}))
       ->group("Overlays");
-  add_input_options(preview, args->input, true);
+  add_input_options(preview, args->options.input, true);
   for (const char* name : {"-i", "--fps", "--velocity-attr", "--velocity-from-positions", "--strict"}) {
     preview->get_option(name)->group("Overlays");
   }
   preview
-      ->add_option("--velocity-scale", args->velocity_scale, "Velocity arrows are v * dt * K long (K frames of motion)")
+      ->add_option("--velocity-scale", args->options.velocity_scale,
+                   "Velocity arrows are v * dt * K long (K frames of motion)")
       ->capture_default_str()
       ->group("Overlays");
-  preview->add_option("--arrow-spacing", args->arrow_spacing, "Pixels between velocity arrows")
+  preview->add_option("--arrow-spacing", args->options.arrow_spacing, "Pixels between velocity arrows")
       ->capture_default_str()
       ->group("Overlays");
-  preview->add_option("--sheet", args->sheet, "Also write RUN/preview/sheet.png: every K-th rendered frame in a grid")
+  preview
+      ->add_option("--sheet", args->options.sheet,
+                   "Also write RUN/preview/sheet.png: every K-th rendered frame in a grid")
       ->group("Contact sheet");
-  preview->add_flag("--sheet-only", args->sheet_only, "Write the contact sheet only, no per-frame PNGs")
+  preview->add_flag("--sheet-only", args->options.sheet_only, "Write the contact sheet only, no per-frame PNGs")
       ->group("Contact sheet");
   preview->callback([args, &exit_code]() {
-    args->render.view = view_from_string(args->view);
-    if (!args->camera.empty()) parse_camera(args->camera, args->render);
-    if (args->render.width < 1) throw InputError("", "--width must be at least 1");
-    if (args->render.height < 0) throw InputError("", "--height must be at least 1");
-    if (args->sheet < 0) throw InputError("", "--sheet must be at least 1");
-    if (args->sheet_only && args->sheet == 0) throw InputError("", "--sheet-only needs --sheet K");
-    if (args->arrow_spacing < 1) throw InputError("", "--arrow-spacing must be at least 1");
+    PreviewOptions& o = args->options;
+    o.render.view = view_from_string(args->view);
+    if (!args->camera.empty()) parse_camera(args->camera, o.render);
     auto wants = [&](const char* name) {
       return std::find(args->overlays.begin(), args->overlays.end(), name) != args->overlays.end();
     };
-    const bool borders = wants("borders"), states = wants("states"), velocity = wants("velocity");
-    if (!args->overlays.empty() && args->input.pattern.empty()) {
-      throw InputError("", "--overlay " + args->overlays.front() +
-                               ": needs the run's input sequence (-i/--input PATTERN, as given to run)");
-    }
-    InputOptions in;
-    in.pattern = args->mesh.empty() ? args->dir + "/mesh.####.obj" : args->mesh;
-    in.frames = args->frames;
-    const FramePattern meshes(in.pattern);
-    const FramePattern atlases(args->atlas.empty() ? args->dir + "/atlas.####.exr" : args->atlas);
-    const std::vector<int> frames = in.frames.empty() ? meshes.discover() : parse_frame_range(in.frames);
-    if (frames.empty()) throw InputError(in.pattern, "no frame matches this pattern");
-    // The overlays read the input as run did: every frame on disk (central
-    // differences with --velocity-from-positions see the same neighbours).
-    std::optional<Sequence> sequence;
-    if (!args->overlays.empty()) {
-      args->input.validate();
-      sequence.emplace(args->input);
-    }
-    const FramePattern out(args->dir + "/preview/frame.####.png");
-    std::vector<Image> sheet;
-    std::vector<std::string> labels;
-    for (std::size_t j = 0; j < frames.size(); ++j) {
-      const int f = frames[j];
-      const UVMesh mesh = read_uv_mesh_obj(meshes.path(f));
-      const Image atlas = read_image(atlases.path(f));
-      RenderResult r = render(mesh, atlas, args->render);
-      if (sequence) {
-        const auto& found = sequence->frames();
-        const auto it = std::find(found.begin(), found.end(), f);
-        if (it == found.end()) throw InputError(sequence->path_of(f), "input frame not found (needed by --overlay)");
-        auto frame_mesh =
-            std::make_shared<const FrameMesh>(sequence->load(static_cast<std::size_t>(it - found.begin())));
-        Canvas canvas{r.color, r.gbuffer, r.camera, default_depth_bias(frame_mesh->positions)};
-        if (borders || states) {
-          const Tracker tracker = Tracker::load(state_path(args->dir, f), frame_mesh);
-          if (borders) draw_patch_borders(canvas, tracker.patches());
-          if (states) draw_disk_states(canvas, tracker.patches(), std::max(3.0, r.camera.width / 150.0));
-        }
-        if (velocity) draw_velocities(canvas, *frame_mesh, args->velocity_scale / args->input.fps, args->arrow_spacing);
-      }
-      if (!args->sheet_only) write_image(out.path(f), r.color);
-      if (args->sheet > 0 && j % static_cast<std::size_t>(args->sheet) == 0) {
-        sheet.push_back(std::move(r.color));
-        labels.push_back(std::to_string(f));
-      }
-    }
-    if (!args->sheet_only) std::cout << "wrote " << frames.size() << " previews: " << out.pattern() << "\n";
-    if (args->sheet > 0) {
-      const std::string path = args->dir + "/preview/sheet.png";
-      write_image(path, contact_sheet(sheet, labels));
-      std::cout << "wrote contact sheet of " << sheet.size() << " frames: " << path << "\n";
-    }
+    o.borders = wants("borders"), o.states = wants("states"), o.velocity = wants("velocity");
+    const PreviewSummary summary = run_preview(o);
+    if (!summary.frame_pattern.empty())
+      std::cout << "wrote " << summary.frames << " previews: " << summary.frame_pattern << "\n";
+    if (!summary.sheet_path.empty())
+      std::cout << "wrote contact sheet of " << summary.sheet_frames << " frames: " << summary.sheet_path << "\n";
     exit_code = 0;
   });
 }
