@@ -458,184 +458,150 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
 
 }  // namespace
 
-EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
-  JobOptions job = job_in;
-  job.output.dir = options.run_dir;
-  const std::string atlas_pattern = job.output.atlas(), mesh_pattern = job.output.mesh();
-  if (std::filesystem::path(mesh_pattern).extension() != ".obj") {
-    throw InputError(mesh_pattern, "eval reads the run's UV meshes as OBJ (run with the default --mesh)");
-  }
-  const Sequence sequence(options.input);
-  const Exemplar exemplar =
-      load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar, job.synthesis.displacement);
-  const double dt = 1.0 / options.input.fps;
-  const std::string dir = options.run_dir + "/eval";
-  std::filesystem::create_directories(dir);
+namespace {
 
-  // The run's resolved lengths: from a state file when there is one, else
-  // resolved on the first frame as the run did.
-  std::optional<TrackingOptions> resolved;
-  std::vector<Row> rows;
+/// Patch life over the frames: births, deaths, lifetimes, churn and the
+/// removal histogram (rule × age), from consecutive state files.
+struct PatchHistory {
   std::map<std::uint32_t, int> born;                                         // live patch id -> first frame seen
   std::vector<double> lifetimes;                                             // frames lived by patches that died
   std::array<std::array<int, kAgeBuckets>, kRetireCauses> retired_by_age{};  // rule x age at removal
   std::set<std::uint32_t> previous_ids;
-  bool have_previous_state = false;
-  std::optional<TexturedFrame> previous;
-  std::shared_ptr<const FrameMesh> previous_mesh;
-  std::vector<std::string> images;
-  const int image_every = std::max<int>(1, static_cast<int>(sequence.size()) / std::max(1, options.report_images));
+  bool have_previous = false;
 
-  for (std::size_t i = 0; i < sequence.size(); ++i) {
-    const int frame = sequence.frames()[i];
-    reporter.progress(i, sequence.size(), "eval");
-    auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
-    const std::string atlas_path = FramePattern(atlas_pattern).path(frame);
-    const std::string mesh_path = FramePattern(mesh_pattern).path(frame);
-    if (!std::filesystem::exists(atlas_path))
-      throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
-    if (!std::filesystem::exists(mesh_path))
-      throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
-    TexturedFrame current(read_uv_mesh_obj(mesh_path), read_image(atlas_path));
-    Row row{{"frame", frame}};
-
-    // Patch states: coverage, ghosting, life, distortion.
-    const std::string state = state_path(options.run_dir, frame);
-    if (std::filesystem::exists(state)) {
-      const Tracker tracker = Tracker::load(state, mesh);
-      const TrackingOptions& o = tracker.settings().method;
-      if (!resolved) resolved = o;
-      const std::vector<Patch>& patches = tracker.patches();
-      const PatchCounts counts = count_states(patches);
-      row.emplace_back("patches", static_cast<double>(patches.size()));
-      row.emplace_back("fading_in", counts.fading_in);
-      row.emplace_back("active", counts.active);
-      row.emplace_back("fading_out_distorted", counts.fading_out_distorted);
-      row.emplace_back("fading_out_close", counts.fading_out_close);
-      std::set<std::uint32_t> ids;
-      int births = 0;
-      for (const Patch& p : patches) {
-        ids.insert(p.id);
-        if (!previous_ids.count(p.id)) ++births, born.emplace(p.id, frame);
-      }
-      int deaths = 0;
-      for (std::uint32_t id : previous_ids) {
-        if (ids.count(id)) continue;
-        ++deaths;
-        lifetimes.push_back(frame - born[id]);
-        born.erase(id);
-      }
-      row.emplace_back("births", have_previous_state ? births : std::nan(""));
-      row.emplace_back("deaths", have_previous_state ? deaths : std::nan(""));
-      // Churn: births over live patches, and the share of patches active.
-      row.emplace_back("birth_rate", have_previous_state && !patches.empty()
-                                         ? births / static_cast<double>(patches.size())
-                                         : std::nan(""));
-      row.emplace_back("active_share",
-                       patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
-      if (have_previous_state) {
-        for (auto& kv : retired_counts(tracker.retired())) row.push_back(std::move(kv));
-        for (const RetiredPatch& r : tracker.retired()) ++retired_by_age[static_cast<int>(r.cause)][age_bucket(r.age)];
-      }
-      previous_ids = std::move(ids);
-      have_previous_state = true;
-
-      const PatchCoverage coverage(patches, o.max_projection);
-      row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage));
-      SynthesisOptions so = synthesis_options(o, job.synthesis);
-      so.aov = true;
-      const Atlas atlas = build_atlas(*tracker.surface(), job.synthesis.atlas);
-      const TexelMap map = build_texel_map(*tracker.surface(), atlas);
-      const SynthesisResult synth = synthesize(*tracker.surface(), atlas, map, patches, exemplar, so);
-      row.emplace_back("uncovered_texels", synth.uncovered_fraction());
-      std::vector<double> count;
-      for (std::size_t t = 0; t < map.face.size(); ++t) {
-        if (map.face[t] >= 0) count.push_back(synth.count.pixels[t]);
-      }
-      row.emplace_back("ghosting_mean",
-                       count.empty() ? std::nan("") : std::accumulate(count.begin(), count.end(), 0.0) / count.size());
-      row.emplace_back("ghosting_p95", quantile(count, 0.95));
-
-      std::vector<double> distortion;
-      std::size_t vertices = 0, poor = 0;
-      for (const Patch& p : patches) {
-        for (std::size_t t = 0; t < p.triangles.size(); ++t) {
-          const Tri& tri = p.triangles[t];
-          distortion.push_back(
-              triangle_distortion(p.rest[t], p.positions[tri[0]], p.positions[tri[1]], p.positions[tri[2]]));
-        }
-        for (float q : p.quality) vertices++, poor += q < 0.5f;
-      }
-      row.emplace_back("distortion_median", quantile(distortion, 0.5));
-      row.emplace_back("distortion_p95", quantile(distortion, 0.95));
-      row.emplace_back("distortion_max",
-                       distortion.empty() ? std::nan("") : *std::max_element(distortion.begin(), distortion.end()));
-      row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
+  void add(int frame, const Tracker& tracker, Row& row) {
+    const std::vector<Patch>& patches = tracker.patches();
+    const PatchCounts counts = count_states(patches);
+    row.emplace_back("patches", static_cast<double>(patches.size()));
+    row.emplace_back("fading_in", counts.fading_in);
+    row.emplace_back("active", counts.active);
+    row.emplace_back("fading_out_distorted", counts.fading_out_distorted);
+    row.emplace_back("fading_out_close", counts.fading_out_close);
+    std::set<std::uint32_t> ids;
+    int births = 0;
+    for (const Patch& p : patches) {
+      ids.insert(p.id);
+      if (!previous_ids.count(p.id)) ++births, born.emplace(p.id, frame);
     }
-    if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
-
-    // Contrast and spectrum of the atlas written by the run.
-    const std::vector<char> mask = chart_mask(current.mesh, current.atlas.width);
-    const std::vector<double> contrast = contrast_ratio(current.atlas, mask, exemplar);
-    const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
-    for (std::size_t c = 0; c < contrast.size(); ++c)
-      row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
-    const double tile = resolved->exemplar_tile_size();
-    const double density = texel_density(current.mesh, current.atlas.width);
-    const double scale =
-        exemplar.image().width * resolved->uv_scale / (tile * density);  // exemplar texels per atlas texel
-    double spectrum = std::nan("");
-    for (int n : {64, 32, 16}) {
-      const auto windows = chart_windows(mask, current.atlas.width, n, 8);
-      if (windows.empty() || !(scale > 0.0)) continue;
-      std::vector<double> reference(n / 2 - 1, 0.0);
-      const int crops = 8;
-      for (int k = 0; k < crops; ++k) {
-        const Image crop = exemplar_crop(exemplar, exemplar.image().width * (0.37 * k),
-                                         exemplar.image().height * (0.61 * k), scale, n);
-        const std::vector<double> s = radial_log_spectrum(crop, 0, 0, n);
-        for (std::size_t b = 0; b < s.size(); ++b) reference[b] += s[b] / crops;
-      }
-      double sum = 0.0;
-      for (const auto& [x, y] : windows)
-        sum += spectrum_distance(radial_log_spectrum(current.atlas, x, y, n), reference);
-      spectrum = sum / static_cast<double>(windows.size());
-      row.emplace_back("spectrum_crop", n);
-      break;
+    int deaths = 0;
+    for (std::uint32_t id : previous_ids) {
+      if (ids.count(id)) continue;
+      ++deaths;
+      lifetimes.push_back(frame - born[id]);
+      born.erase(id);
     }
-    row.emplace_back("spectrum_distance", spectrum);
-
-    // Texture–flow agreement with the previous frame.
-    if (previous) {
-      const WarpingError w =
-          warping_error(*previous_mesh, *previous, current, dt, exemplar, options.samples, options.seed + frame);
-      row.emplace_back("warp_advected", w.advected);
-      row.emplace_back("warp_fixed", w.fixed);
-      row.emplace_back("warp_random", w.random);
-      if (options.flow_width > 0) {
-        const FlowError f = flow_against_velocity(*previous_mesh, *previous, current, dt, options);
-        row.emplace_back("flow_endpoint_px", f.pixels ? f.endpoint : std::nan(""));
-        row.emplace_back("flow_angular_deg", f.pixels ? f.angular : std::nan(""));
-        row.emplace_back("flow_speed_px", f.pixels ? f.speed : std::nan(""));
-      }
+    row.emplace_back("births", have_previous ? births : std::nan(""));
+    row.emplace_back("deaths", have_previous ? deaths : std::nan(""));
+    // Churn: births over live patches, and the share of patches active.
+    row.emplace_back("birth_rate",
+                     have_previous && !patches.empty() ? births / static_cast<double>(patches.size()) : std::nan(""));
+    row.emplace_back("active_share",
+                     patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
+    if (have_previous) {
+      for (auto& kv : retired_counts(tracker.retired())) row.push_back(std::move(kv));
+      for (const RetiredPatch& r : tracker.retired()) ++retired_by_age[static_cast<int>(r.cause)][age_bucket(r.age)];
     }
-
-    if (static_cast<int>(i) % image_every == 0 && static_cast<int>(images.size()) < options.report_images) {
-      const std::string png = FramePattern(dir + "/preview.####.png").path(frame);
-      write_image(png, render_textured(current.mesh, current.atlas, options.render), ImageWriteOptions{});
-      images.push_back(png);
-    }
-    rows.push_back(std::move(row));
-    previous.emplace(std::move(current));
-    previous_mesh = mesh;
+    previous_ids = std::move(ids);
+    have_previous = true;
   }
-  for (const auto& [id, first] : born)
-    lifetimes.push_back(sequence.frames().back() - first + 1);  // still alive: censored
 
-  // Outputs: per-frame lines, a summary (means over the frames measured), the report.
-  std::string lines;
-  for (const Row& r : rows) lines += to_json_object(r) + "\n";
-  write_text_atomically(dir + "/metrics.jsonl", lines);
+  /// Patches still alive at the end count with their (censored) age.
+  void finish(int last_frame) {
+    for (const auto& [id, first] : born) lifetimes.push_back(last_frame - first + 1);
+  }
+};
+
+/// Coverage (surface area and texels with Σw = 0), ghosting (patches blended
+/// per texel, re-synthesised with the count layer) and distortion of the
+/// frame's patches.
+void patch_metrics(const Tracker& tracker, const JobOptions& job, const Exemplar& exemplar, Row& row) {
+  const TrackingOptions& o = tracker.settings().method;
+  const std::vector<Patch>& patches = tracker.patches();
+  const PatchCoverage coverage(patches, o.max_projection);
+  row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage));
+  SynthesisOptions so = synthesis_options(o, job.synthesis);
+  so.aov = true;
+  const Atlas atlas = build_atlas(*tracker.surface(), job.synthesis.atlas);
+  const TexelMap map = build_texel_map(*tracker.surface(), atlas);
+  const SynthesisResult synth = synthesize(*tracker.surface(), atlas, map, patches, exemplar, so);
+  row.emplace_back("uncovered_texels", synth.uncovered_fraction());
+  std::vector<double> count;
+  for (std::size_t t = 0; t < map.face.size(); ++t) {
+    if (map.face[t] >= 0) count.push_back(synth.count.pixels[t]);
+  }
+  row.emplace_back("ghosting_mean",
+                   count.empty() ? std::nan("") : std::accumulate(count.begin(), count.end(), 0.0) / count.size());
+  row.emplace_back("ghosting_p95", quantile(count, 0.95));
+
+  std::vector<double> distortion;
+  std::size_t vertices = 0, poor = 0;
+  for (const Patch& p : patches) {
+    for (std::size_t t = 0; t < p.triangles.size(); ++t) {
+      const Tri& tri = p.triangles[t];
+      distortion.push_back(
+          triangle_distortion(p.rest[t], p.positions[tri[0]], p.positions[tri[1]], p.positions[tri[2]]));
+    }
+    for (float q : p.quality) vertices++, poor += q < 0.5f;
+  }
+  row.emplace_back("distortion_median", quantile(distortion, 0.5));
+  row.emplace_back("distortion_p95", quantile(distortion, 0.95));
+  row.emplace_back("distortion_max",
+                   distortion.empty() ? std::nan("") : *std::max_element(distortion.begin(), distortion.end()));
+  row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
+}
+
+/// Contrast and spectrum of the atlas the run wrote, against the exemplar at
+/// the atlas's texel density.
+void texture_metrics(const TexturedFrame& frame, const TrackingOptions& resolved, const Exemplar& exemplar, Row& row) {
+  const std::vector<char> mask = chart_mask(frame.mesh, frame.atlas.width);
+  const std::vector<double> contrast = contrast_ratio(frame.atlas, mask, exemplar);
+  const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
+  for (std::size_t c = 0; c < contrast.size(); ++c)
+    row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
+  const double tile = resolved.exemplar_tile_size();
+  const double density = texel_density(frame.mesh, frame.atlas.width);
+  const double scale =
+      exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
+  double spectrum = std::nan("");
+  for (int n : {64, 32, 16}) {
+    const auto windows = chart_windows(mask, frame.atlas.width, n, 8);
+    if (windows.empty() || !(scale > 0.0)) continue;
+    std::vector<double> reference(n / 2 - 1, 0.0);
+    const int crops = 8;
+    for (int k = 0; k < crops; ++k) {
+      const Image crop =
+          exemplar_crop(exemplar, exemplar.image().width * (0.37 * k), exemplar.image().height * (0.61 * k), scale, n);
+      const std::vector<double> s = radial_log_spectrum(crop, 0, 0, n);
+      for (std::size_t b = 0; b < s.size(); ++b) reference[b] += s[b] / crops;
+    }
+    double sum = 0.0;
+    for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(frame.atlas, x, y, n), reference);
+    spectrum = sum / static_cast<double>(windows.size());
+    row.emplace_back("spectrum_crop", n);
+    break;
+  }
+  row.emplace_back("spectrum_distance", spectrum);
+}
+
+/// Texture–flow agreement of two consecutive frames: warping error and
+/// optical flow against the projected velocity.
+void flow_metrics(const FrameMesh& previous_mesh, const TexturedFrame& previous, const TexturedFrame& current,
+                  double dt, const Exemplar& exemplar, const EvalOptions& options, int frame, Row& row) {
+  const WarpingError w =
+      warping_error(previous_mesh, previous, current, dt, exemplar, options.samples, options.seed + frame);
+  row.emplace_back("warp_advected", w.advected);
+  row.emplace_back("warp_fixed", w.fixed);
+  row.emplace_back("warp_random", w.random);
+  if (options.flow_width > 0) {
+    const FlowError f = flow_against_velocity(previous_mesh, previous, current, dt, options);
+    row.emplace_back("flow_endpoint_px", f.pixels ? f.endpoint : std::nan(""));
+    row.emplace_back("flow_angular_deg", f.pixels ? f.angular : std::nan(""));
+    row.emplace_back("flow_speed_px", f.pixels ? f.speed : std::nan(""));
+  }
+}
+
+/// Means over the frames measured of every key, and the mean patch lifetime.
+Row summarize(const std::vector<Row>& rows, const std::vector<double>& lifetimes) {
   Row summary{{"frames", static_cast<double>(rows.size())}};
   std::vector<std::string> keys;
   for (const Row& r : rows) {
@@ -657,14 +623,18 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   summary.emplace_back(
       "patch_lifetime_mean",
       lifetimes.empty() ? std::nan("") : std::accumulate(lifetimes.begin(), lifetimes.end(), 0.0) / lifetimes.size());
-  write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
+  return summary;
+}
 
+/// The self-contained HTML report: summary, removal table, charts, frames.
+std::string html_report(const std::string& run_dir, const std::vector<Row>& rows, const Row& summary,
+                        const PatchHistory& history, const std::vector<std::string>& images) {
   std::ostringstream html;
-  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << options.run_dir
+  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << run_dir
        << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
           "10px;text-align:right}"
           "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
-  html << "<h1>fluidtex eval</h1><p>Run: <code>" << options.run_dir << "</code>, " << rows.size()
+  html << "<h1>fluidtex eval</h1><p>Run: <code>" << run_dir << "</code>, " << rows.size()
        << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
           "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
           "move, and random points).</p>";
@@ -681,7 +651,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   for (int c = 1; c < kRetireCauses; ++c) {
     html << "<tr><th>" << to_string(static_cast<RetireCause>(c)) << "</th>";
     int total = 0;
-    for (int n : retired_by_age[c]) html << "<td>" << n << "</td>", total += n;
+    for (int n : history.retired_by_age[c]) html << "<td>" << n << "</td>", total += n;
     html << "<td>" << total << "</td></tr>";
   }
   html << "</table><h2>Per frame</h2>";
@@ -717,7 +687,79 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
          << std::filesystem::path(png).filename().string() << "</figcaption></figure>";
   }
   html << "</body></html>\n";
-  write_text_atomically(dir + "/report.html", html.str());
+  return html.str();
+}
+
+/// The frame's atlas and UV mesh as the run wrote them (InputError when missing).
+TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string& mesh_pattern, int frame) {
+  const std::string atlas_path = FramePattern(atlas_pattern).path(frame);
+  const std::string mesh_path = FramePattern(mesh_pattern).path(frame);
+  if (!std::filesystem::exists(atlas_path))
+    throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
+  if (!std::filesystem::exists(mesh_path))
+    throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
+  return TexturedFrame(read_uv_mesh_obj(mesh_path), read_image(atlas_path));
+}
+
+}  // namespace
+
+EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
+  JobOptions job = job_in;
+  job.output.dir = options.run_dir;
+  const std::string atlas_pattern = job.output.atlas(), mesh_pattern = job.output.mesh();
+  if (std::filesystem::path(mesh_pattern).extension() != ".obj") {
+    throw InputError(mesh_pattern, "eval reads the run's UV meshes as OBJ (run with the default --mesh)");
+  }
+  const Sequence sequence(options.input);
+  const Exemplar exemplar =
+      load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar, job.synthesis.displacement);
+  const double dt = 1.0 / options.input.fps;
+  const std::string dir = options.run_dir + "/eval";
+  std::filesystem::create_directories(dir);
+
+  // The run's resolved lengths: from a state file when there is one, else
+  // resolved on the first frame as the run did.
+  std::optional<TrackingOptions> resolved;
+  std::vector<Row> rows;
+  PatchHistory history;
+  std::optional<TexturedFrame> previous;
+  std::shared_ptr<const FrameMesh> previous_mesh;
+  std::vector<std::string> images;
+  const int image_every = std::max<int>(1, static_cast<int>(sequence.size()) / std::max(1, options.report_images));
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    const int frame = sequence.frames()[i];
+    reporter.progress(i, sequence.size(), "eval");
+    auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
+    TexturedFrame current = read_run_frame(atlas_pattern, mesh_pattern, frame);
+    Row row{{"frame", frame}};
+    const std::string state = state_path(options.run_dir, frame);
+    if (std::filesystem::exists(state)) {
+      const Tracker tracker = Tracker::load(state, mesh);
+      if (!resolved) resolved = tracker.settings().method;
+      history.add(frame, tracker, row);
+      patch_metrics(tracker, job, exemplar, row);
+    }
+    if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
+    texture_metrics(current, *resolved, exemplar, row);
+    if (previous) flow_metrics(*previous_mesh, *previous, current, dt, exemplar, options, frame, row);
+    if (static_cast<int>(i) % image_every == 0 && static_cast<int>(images.size()) < options.report_images) {
+      const std::string png = FramePattern(dir + "/preview.####.png").path(frame);
+      write_image(png, render_textured(current.mesh, current.atlas, options.render), ImageWriteOptions{});
+      images.push_back(png);
+    }
+    rows.push_back(std::move(row));
+    previous.emplace(std::move(current));
+    previous_mesh = mesh;
+  }
+  history.finish(sequence.frames().back());
+
+  // Outputs: per-frame lines, a summary (means over the frames measured), the report.
+  std::string lines;
+  for (const Row& r : rows) lines += to_json_object(r) + "\n";
+  write_text_atomically(dir + "/metrics.jsonl", lines);
+  const Row summary = summarize(rows, history.lifetimes);
+  write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
+  write_text_atomically(dir + "/report.html", html_report(options.run_dir, rows, summary, history, images));
   reporter.progress(sequence.size(), sequence.size(), "eval");
   return {rows.size(), dir + "/report.html"};
 }
