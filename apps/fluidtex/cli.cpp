@@ -128,15 +128,15 @@ std::unique_ptr<tbb::global_control> limit_threads(int threads) {
 
 struct RunArgs {
   JobOptions job;
-  std::string criterion = "ellipsoid";
-  std::string fading = "flow";
-  std::string distortion_test = "patch";
-  std::string advection = "heun";
-  std::string patch_motion = "smooth";
-  std::string blend = "contrast";
-  std::string synthesis = "raster";
-  std::string method = "patches";
-  std::string flowmap_axis = "z";
+  std::string criterion = to_string(TrackingOptions{}.criterion);
+  std::string fading = to_string(TrackingOptions{}.fading);
+  std::string distortion_test = to_string(TrackingOptions{}.distortion_test);
+  std::string advection = to_string(JobOptions{}.advection);
+  std::string patch_motion = to_string(JobOptions{}.patch_motion);
+  std::string blend = to_string(SynthesisJobOptions{}.blend);
+  std::string synthesis = to_string(SynthesisJobOptions{}.method);
+  std::string method = to_string(JobOptions{}.method);
+  std::string flowmap_axis = to_string(FlowMapOptions{}.axis);
   bool float_output = false;
   bool no_coverage_check = false;
   int verbosity = 0;
@@ -229,7 +229,7 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
                 "Write per-frame PLYs of the patches and of the disks coloured by state");
   run->add_option("--method", args->method,
                   "patches: Gagnon et al. 2019; flowmap: the two-phase advected-UV baseline (same outputs, no state)")
-      ->check(CLI::IsMember({"patches", "flowmap"}))
+      ->check(CLI::IsMember(enum_choices<TexturingMethod>()))
       ->capture_default_str()
       ->group("Method");
   run->add_option("--flowmap-period", args->job.flowmap.period,
@@ -238,7 +238,7 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
       ->group("Method");
   run->add_option("--flowmap-axis", args->flowmap_axis,
                   "flowmap: rest uv = position projected along this axis (z: the generated scenes' normal / up axis)")
-      ->check(CLI::IsMember({"x", "y", "z"}))
+      ->check(CLI::IsMember(enum_choices<Axis>()))
       ->capture_default_str()
       ->group("Method");
   CLI::App* method = run;
@@ -246,7 +246,7 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
     method->add_option(std::string("--") + name, field, help)->capture_default_str()->group("Method (Tables 3, 4)");
   });
   run->add_option("--criterion", args->criterion, "Poisson rejection: ellipsoid (paper), sphere, plane")
-      ->check(CLI::IsMember({"ellipsoid", "sphere", "plane"}))
+      ->check(CLI::IsMember(enum_choices<Criterion>()))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   run->add_flag("--no-coverage-check", args->no_coverage_check,
@@ -256,23 +256,23 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
   run->add_option("--fading", args->fading,
                   "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its radius), "
                   "density (Eq. 6, paper) or linear (Eq. 5)")
-      ->check(CLI::IsMember({"flow", "density", "linear"}))
+      ->check(CLI::IsMember(enum_choices<Fading>()))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   run->add_option("--advection", args->advection, "Patch advection: heun (second order) or euler (x + v dt)")
-      ->check(CLI::IsMember({"heun", "euler"}))
+      ->check(CLI::IsMember(enum_choices<Advection>()))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   run->add_option("--distortion-test", args->distortion_test,
                   "patch: a patch is too distorted when its mean quality over the disk (weighted as K_S) is below "
                   "Q_vmin; vertex: when any vertex inside the disk is (paper)")
-      ->check(CLI::IsMember({"patch", "vertex"}))
+      ->check(CLI::IsMember(enum_choices<DistortionTest>()))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   run->add_option("--patch-motion", args->patch_motion,
                   "smooth: a patch moves by one smooth (cubic) map fitted to its advected vertices, so that "
                   "velocity and re-meshing noise cannot crush its triangles; vertex: every vertex on its own (paper)")
-      ->check(CLI::IsMember({"smooth", "vertex"}))
+      ->check(CLI::IsMember(enum_choices<PatchMotion>()))
       ->capture_default_str()
       ->group("Method (Tables 3, 4)");
   SynthesisJobOptions& so = args->job.synthesis;
@@ -284,12 +284,12 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
       ->group("Synthesis");
   run->add_option("--blend", args->blend,
                   "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)")
-      ->check(CLI::IsMember({"contrast", "linear"}))
+      ->check(CLI::IsMember(enum_choices<Blend>()))
       ->capture_default_str()
       ->group("Synthesis");
   run->add_option("--synthesis", args->synthesis,
                   "raster: patch triangles rasterised in atlas space; exact: per-texel projection (reference, slow)")
-      ->check(CLI::IsMember({"raster", "exact"}))
+      ->check(CLI::IsMember(enum_choices<SynthesisMethod>()))
       ->capture_default_str()
       ->group("Synthesis");
   run->add_option("--aov", so.aov, "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch")
@@ -310,17 +310,17 @@ void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
 
 /// The named choices turned into the job's enums.
 void finish_run_args(RunArgs& args) {
-  args.job.tracking.criterion = criterion_from_string(args.criterion);
-  args.job.tracking.fading = fading_from_string(args.fading);
-  args.job.tracking.distortion_test = distortion_test_from_string(args.distortion_test);
-  args.job.advection = advection_from_string(args.advection);
-  args.job.patch_motion = patch_motion_from_string(args.patch_motion);
-  args.job.synthesis.blend = blend_from_string(args.blend);
-  args.job.synthesis.method = synthesis_from_string(args.synthesis);
+  args.job.tracking.criterion = parse_enum<Criterion>(args.criterion, "criterion");
+  args.job.tracking.fading = parse_enum<Fading>(args.fading, "fading");
+  args.job.tracking.distortion_test = parse_enum<DistortionTest>(args.distortion_test, "distortion-test");
+  args.job.advection = parse_enum<Advection>(args.advection, "advection");
+  args.job.patch_motion = parse_enum<PatchMotion>(args.patch_motion, "patch-motion");
+  args.job.synthesis.blend = parse_enum<Blend>(args.blend, "blend");
+  args.job.synthesis.method = parse_enum<SynthesisMethod>(args.synthesis, "synthesis");
   if (args.float_output) args.job.synthesis.depth = PixelDepth::Float;
   args.job.coverage_check = !args.no_coverage_check;
-  args.job.method = texturing_method_from_string(args.method);
-  args.job.flowmap.axis = axis_from_string(args.flowmap_axis);
+  args.job.method = parse_enum<TexturingMethod>(args.method, "method");
+  args.job.flowmap.axis = parse_enum<Axis>(args.flowmap_axis, "flowmap-axis");
 }
 
 /// The options a finished run was made with, from its OUT/job.toml.
@@ -441,7 +441,7 @@ void parse_camera(const std::string& text, RenderOptions& render) {
 void add_preview(CLI::App& app, int& exit_code) {
   struct PreviewArgs {
     PreviewOptions options;
-    std::string view = "top", camera;
+    std::string view = enum_name(RenderOptions{}.view), camera;
     std::vector<std::string> overlays;
   };
   auto args = std::make_shared<PreviewArgs>();
@@ -449,7 +449,7 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview->add_option("run", args->options.run_dir, "The output folder of a fluidtex run")->required();
   preview->add_option("--frames", args->options.frames, "Frames to render, e.g. 1-48x8 (default: all)");
   preview->add_option("--view", args->view, "Orthographic view along an axis: top, front, side")
-      ->check(CLI::IsMember({"top", "front", "side"}))
+      ->check(CLI::IsMember(enum_choices<View>()))
       ->capture_default_str();
   preview->add_option("--camera", args->camera,
                       "Perspective camera EX,EY,EZ,TX,TY,TZ[,FOV]: eye, target, vertical field of view in "
@@ -489,7 +489,7 @@ void add_preview(CLI::App& app, int& exit_code) {
       ->group("Contact sheet");
   preview->callback([args, &exit_code]() {
     PreviewOptions& o = args->options;
-    o.render.view = view_from_string(args->view);
+    o.render.view = parse_enum<View>(args->view, "view");
     if (!args->camera.empty()) parse_camera(args->camera, o.render);
     auto wants = [&](const char* name) {
       return std::find(args->overlays.begin(), args->overlays.end(), name) != args->overlays.end();
@@ -507,7 +507,7 @@ void add_preview(CLI::App& app, int& exit_code) {
 void add_eval(CLI::App& app, int& exit_code) {
   struct EvalArgs {
     EvalOptions eval;
-    std::string view = "top";
+    std::string view = enum_name(RenderOptions{}.view);
     int verbosity = 0;
     bool quiet = false;
     int threads = 0;
@@ -529,7 +529,7 @@ void add_eval(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--images", args->eval.report_images, "Preview images in the report")->capture_default_str();
   cmd->add_option("--view", args->view, "Orthographic view of the renders: top, front, side")
-      ->check(CLI::IsMember({"top", "front", "side"}))
+      ->check(CLI::IsMember(enum_choices<View>()))
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
@@ -542,7 +542,7 @@ void add_eval(CLI::App& app, int& exit_code) {
     options.input = job.input;
     options.input.pattern = pattern;
     if (!frames.empty()) options.input.frames = frames;
-    options.render.view = view_from_string(args->view);
+    options.render.view = parse_enum<View>(args->view, "view");
     options.render.width = 384;
     TerminalReporter reporter(args->verbosity, args->quiet);
     const auto threads = limit_threads(args->threads);

@@ -10,13 +10,6 @@
 
 namespace fluidtex {
 
-View view_from_string(const std::string& s) {
-  if (s == "top") return View::Top;
-  if (s == "front") return View::Front;
-  if (s == "side") return View::Side;
-  throw InputError("", "--view must be top, front or side (got '" + s + "')");
-}
-
 namespace {
 
 /// Screen coordinates (u right, v up) and height towards the camera of p.

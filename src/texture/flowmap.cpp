@@ -14,23 +14,6 @@
 
 namespace fluidtex {
 
-const char* to_string(TexturingMethod m) { return m == TexturingMethod::Patches ? "patches" : "flowmap"; }
-const char* to_string(Axis a) { return a == Axis::X ? "x" : a == Axis::Y ? "y" : "z"; }
-
-TexturingMethod texturing_method_from_string(const std::string& s) {
-  for (TexturingMethod m : {TexturingMethod::Patches, TexturingMethod::FlowMap}) {
-    if (s == to_string(m)) return m;
-  }
-  throw InputError("", "--method must be patches or flowmap (got '" + s + "')");
-}
-
-Axis axis_from_string(const std::string& s) {
-  for (Axis a : {Axis::X, Axis::Y, Axis::Z}) {
-    if (s == to_string(a)) return a;
-  }
-  throw InputError("", "--flowmap-axis must be x, y or z (got '" + s + "')");
-}
-
 void FlowMapOptions::validate() const {
   if (period < 2) {
     throw InputError("", "--flowmap-period must be >= 2 (got " + std::to_string(period) + ")");

@@ -15,21 +15,6 @@
 
 namespace fluidtex {
 
-const char* to_string(Blend b) { return b == Blend::ContrastPreserving ? "contrast" : "linear"; }
-const char* to_string(SynthesisMethod m) { return m == SynthesisMethod::Raster ? "raster" : "exact"; }
-
-Blend blend_from_string(const std::string& s) {
-  if (s == "contrast") return Blend::ContrastPreserving;
-  if (s == "linear") return Blend::Linear;
-  throw InputError("", "--blend must be contrast or linear (got '" + s + "')");
-}
-
-SynthesisMethod synthesis_from_string(const std::string& s) {
-  if (s == "raster") return SynthesisMethod::Raster;
-  if (s == "exact") return SynthesisMethod::Exact;
-  throw InputError("", "--synthesis must be raster or exact (got '" + s + "')");
-}
-
 namespace {
 
 constexpr int kTile = 64;

@@ -9,22 +9,6 @@
 
 namespace fluidtex {
 
-const char* to_string(Advection a) { return a == Advection::Euler ? "euler" : "heun"; }
-
-Advection advection_from_string(const std::string& s) {
-  if (s == "euler") return Advection::Euler;
-  if (s == "heun") return Advection::Heun;
-  throw InputError("", "--advection must be euler or heun (got '" + s + "')");
-}
-
-const char* to_string(PatchMotion m) { return m == PatchMotion::Vertex ? "vertex" : "smooth"; }
-
-PatchMotion patch_motion_from_string(const std::string& s) {
-  if (s == "vertex") return PatchMotion::Vertex;
-  if (s == "smooth") return PatchMotion::Smooth;
-  throw InputError("", "--patch-motion must be smooth or vertex (got '" + s + "')");
-}
-
 Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                    Advection scheme) {
   const Vec3 v0 = previous.velocity_at(from);

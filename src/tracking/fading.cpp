@@ -2,30 +2,6 @@
 
 namespace fluidtex {
 
-const char* to_string(DiskState s) {
-  switch (s) {
-    case DiskState::FadingIn: return "fading_in";
-    case DiskState::Active: return "active";
-    case DiskState::FadingOutDistorted: return "fading_out_distorted";
-    case DiskState::FadingOutClose: return "fading_out_close";
-  }
-  return "?";
-}
-
-const char* to_string(RetireCause c) {
-  switch (c) {
-    case RetireCause::None: return "none";
-    case RetireCause::CentreLost: return "centre_lost";
-    case RetireCause::Emptied: return "emptied";
-    case RetireCause::VerticesLost: return "vertices_lost";
-    case RetireCause::Split: return "split";
-    case RetireCause::Flipped: return "flipped";
-    case RetireCause::Quality: return "quality";
-    case RetireCause::TooClose: return "too_close";
-  }
-  return "?";
-}
-
 int age_bucket(int age) {
   int b = 0;
   for (int limit = 2; b < kAgeBuckets - 1 && age >= limit; limit *= 2) ++b;

@@ -14,47 +14,6 @@ void require(bool ok, const std::string& option, const std::string& what) {
 
 }  // namespace
 
-const char* to_string(Criterion c) {
-  switch (c) {
-    case Criterion::Ellipsoid: return "ellipsoid";
-    case Criterion::Sphere: return "sphere";
-    case Criterion::Plane: return "plane";
-  }
-  return "?";
-}
-
-const char* to_string(Fading f) {
-  switch (f) {
-    case Fading::Flow: return "flow";
-    case Fading::Density: return "density";
-    case Fading::Linear: return "linear";
-  }
-  return "?";
-}
-
-const char* to_string(DistortionTest t) { return t == DistortionTest::Patch ? "patch" : "vertex"; }
-
-DistortionTest distortion_test_from_string(const std::string& s) {
-  for (DistortionTest t : {DistortionTest::Patch, DistortionTest::Vertex}) {
-    if (s == to_string(t)) return t;
-  }
-  throw InputError("", "--distortion-test must be patch or vertex (got '" + s + "')");
-}
-
-Criterion criterion_from_string(const std::string& s) {
-  for (Criterion c : {Criterion::Ellipsoid, Criterion::Sphere, Criterion::Plane}) {
-    if (s == to_string(c)) return c;
-  }
-  throw InputError("", "--criterion must be ellipsoid, sphere or plane (got '" + s + "')");
-}
-
-Fading fading_from_string(const std::string& s) {
-  for (Fading f : {Fading::Flow, Fading::Density, Fading::Linear}) {
-    if (s == to_string(f)) return f;
-  }
-  throw InputError("", "--fading must be flow, density or linear (got '" + s + "')");
-}
-
 void TrackingOptions::validate() const {
   auto finite = [](double v) { return std::isfinite(v); };
   require(finite(radius) && radius >= 0.0, "radius", "must be >= 0 (0 = automatic)");

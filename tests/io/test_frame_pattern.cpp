@@ -120,9 +120,9 @@ TEST(Options, DefaultsAndValidation) {
   o = TrackingOptions{};
   o.plane_angle = std::nan("");
   EXPECT_THROW(o.validate(), InputError);
-  EXPECT_EQ(criterion_from_string("sphere"), Criterion::Sphere);
-  EXPECT_EQ(fading_from_string("linear"), Fading::Linear);
-  EXPECT_THROW(criterion_from_string("cube"), InputError);
+  EXPECT_EQ(parse_enum<Criterion>("sphere", "criterion"), Criterion::Sphere);
+  EXPECT_EQ(parse_enum<Fading>("linear", "fading"), Fading::Linear);
+  EXPECT_THROW(parse_enum<Criterion>("cube", "criterion"), InputError);
 }
 
 TEST(Options, EveryTable3And4ParameterIsVisited) {

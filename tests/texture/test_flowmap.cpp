@@ -215,8 +215,8 @@ TEST(FlowMap, BadOptionsAreInputErrors) {
   job.synthesis.track_only = false;
   job.output.debug_views = true;
   EXPECT_THROW(job.validate(), InputError);
-  EXPECT_THROW(texturing_method_from_string("splat"), InputError);
-  EXPECT_THROW(axis_from_string("w"), InputError);
+  EXPECT_THROW(parse_enum<TexturingMethod>("splat", "method"), InputError);
+  EXPECT_THROW(parse_enum<Axis>("w", "flowmap-axis"), InputError);
   EXPECT_THROW(FlowMapAdvector(settings(0, 0.1)), InputError);
 
   test::TempDir dir;

@@ -19,12 +19,14 @@
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {
 
 enum class View { Top, Front, Side };  ///< look along −z, +y, −x
 
-View view_from_string(const std::string& s);
+inline constexpr EnumName<View> kViewNames[] = {{View::Top, "top"}, {View::Front, "front"}, {View::Side, "side"}};
+constexpr const auto& enum_names(View) { return kViewNames; }
 
 /// Maps scene points to pixels. Orthographic along an axis (View; framed by a
 /// region of the two screen axes) or perspective (eye, target, vertical field

@@ -41,6 +41,7 @@
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/options.h"
+#include "fluidtex/util/enum_names.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
@@ -53,11 +54,14 @@ enum class TexturingMethod {
 /// Rest-parameterisation axis (`--flowmap-axis`).
 enum class Axis { X, Y, Z };
 
-const char* to_string(TexturingMethod m);
-const char* to_string(Axis a);
+inline constexpr EnumName<TexturingMethod> kTexturingMethodNames[] = {{TexturingMethod::Patches, "patches"},
+                                                                      {TexturingMethod::FlowMap, "flowmap"}};
+constexpr const auto& enum_names(TexturingMethod) { return kTexturingMethodNames; }
+inline const char* to_string(TexturingMethod m) { return enum_name(m); }
+inline constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
+constexpr const auto& enum_names(Axis) { return kAxisNames; }
+inline const char* to_string(Axis a) { return enum_name(a); }
 /// Throw InputError for an unknown name.
-TexturingMethod texturing_method_from_string(const std::string& s);
-Axis axis_from_string(const std::string& s);
 
 struct FlowMapOptions {
   int period = 16;  ///< N: frames between two resets of a phase (>= 2)

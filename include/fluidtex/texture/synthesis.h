@@ -25,16 +25,20 @@
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/tracking/patch.h"
+#include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {
 
 enum class Blend { ContrastPreserving, Linear };
 enum class SynthesisMethod { Raster, Exact };
 
-const char* to_string(Blend b);
-const char* to_string(SynthesisMethod m);
-Blend blend_from_string(const std::string& s);
-SynthesisMethod synthesis_from_string(const std::string& s);
+inline constexpr EnumName<Blend> kBlendNames[] = {{Blend::ContrastPreserving, "contrast"}, {Blend::Linear, "linear"}};
+constexpr const auto& enum_names(Blend) { return kBlendNames; }
+inline const char* to_string(Blend b) { return enum_name(b); }
+inline constexpr EnumName<SynthesisMethod> kSynthesisMethodNames[] = {{SynthesisMethod::Raster, "raster"},
+                                                                      {SynthesisMethod::Exact, "exact"}};
+constexpr const auto& enum_names(SynthesisMethod) { return kSynthesisMethodNames; }
+inline const char* to_string(SynthesisMethod m) { return enum_name(m); }
 
 struct SynthesisOptions {
   Blend blend = Blend::ContrastPreserving;

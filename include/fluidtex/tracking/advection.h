@@ -10,6 +10,7 @@
 
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
+#include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {
 
@@ -22,8 +23,9 @@ enum class Advection {
           ///< stays at D = 1.005.
 };
 
-const char* to_string(Advection a);
-Advection advection_from_string(const std::string& s);
+inline constexpr EnumName<Advection> kAdvectionNames[] = {{Advection::Euler, "euler"}, {Advection::Heun, "heun"}};
+constexpr const auto& enum_names(Advection) { return kAdvectionNames; }
+inline const char* to_string(Advection a) { return enum_name(a); }
 
 /// How a patch's vertices follow the flow (Sec. 5.2).
 enum class PatchMotion {
@@ -41,8 +43,10 @@ enum class PatchMotion {
   /// cannot crush or flip them, and does not accumulate from frame to frame.
   Smooth,
 };
-const char* to_string(PatchMotion m);
-PatchMotion patch_motion_from_string(const std::string& s);
+inline constexpr EnumName<PatchMotion> kPatchMotionNames[] = {{PatchMotion::Smooth, "smooth"},
+                                                              {PatchMotion::Vertex, "vertex"}};
+constexpr const auto& enum_names(PatchMotion) { return kPatchMotionNames; }
+inline const char* to_string(PatchMotion m) { return enum_name(m); }
 
 /// A smooth map of a patch's rest (uv) coordinates to 3D: a cubic
 /// polynomial in u/d, v/d (a quadratic or an affine one when the vertices

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "fluidtex/tracking/options.h"
+#include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {
 
@@ -23,7 +24,12 @@ enum class DiskState : std::uint8_t {
   FadingOutClose = 3,
 };
 
-const char* to_string(DiskState s);
+inline constexpr EnumName<DiskState> kDiskStateNames[] = {{DiskState::FadingIn, "fading_in"},
+                                                          {DiskState::Active, "active"},
+                                                          {DiskState::FadingOutDistorted, "fading_out_distorted"},
+                                                          {DiskState::FadingOutClose, "fading_out_close"}};
+constexpr const auto& enum_names(DiskState) { return kDiskStateNames; }
+inline const char* to_string(DiskState s) { return enum_name(s); }
 
 /// Why a patch started leaving the distribution (the rule that fired). Under
 /// the patch-scale distortion test (DistortionTest::Patch) VerticesLost,
@@ -40,7 +46,13 @@ enum class RetireCause : std::uint8_t {
   TooClose,      ///< within the kill distance of an older disk (fades out as too close)
 };
 constexpr int kRetireCauses = 8;
-const char* to_string(RetireCause c);
+inline constexpr EnumName<RetireCause> kRetireCauseNames[] = {
+    {RetireCause::None, "none"},       {RetireCause::CentreLost, "centre_lost"},
+    {RetireCause::Emptied, "emptied"}, {RetireCause::VerticesLost, "vertices_lost"},
+    {RetireCause::Split, "split"},     {RetireCause::Flipped, "flipped"},
+    {RetireCause::Quality, "quality"}, {RetireCause::TooClose, "too_close"}};
+constexpr const auto& enum_names(RetireCause) { return kRetireCauseNames; }
+inline const char* to_string(RetireCause c) { return enum_name(c); }
 
 /// Age buckets (frames since creation when the rule fired) of the removal
 /// histogram: [0,1], [2,3], [4,7], [8,15], [16,31], [32,∞).

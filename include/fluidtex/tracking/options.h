@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <string>
 
+#include "fluidtex/util/enum_names.h"
+
 namespace fluidtex {
 
 /// Poisson-disk rejection criterion (Sec. 4, Figs. 3, 5).
@@ -43,13 +45,18 @@ enum class DistortionTest {
   Vertex,  ///< any vertex inside the disk with Q_V < Q_vmin (Yu et al. 2011)
 };
 
-const char* to_string(Criterion c);
-const char* to_string(Fading f);
-const char* to_string(DistortionTest t);
-DistortionTest distortion_test_from_string(const std::string& s);
-/// Throw InputError for an unknown name.
-Criterion criterion_from_string(const std::string& s);
-Fading fading_from_string(const std::string& s);
+inline constexpr EnumName<Criterion> kCriterionNames[] = {
+    {Criterion::Ellipsoid, "ellipsoid"}, {Criterion::Sphere, "sphere"}, {Criterion::Plane, "plane"}};
+constexpr const auto& enum_names(Criterion) { return kCriterionNames; }
+inline const char* to_string(Criterion c) { return enum_name(c); }
+inline constexpr EnumName<Fading> kFadingNames[] = {
+    {Fading::Flow, "flow"}, {Fading::Density, "density"}, {Fading::Linear, "linear"}};
+constexpr const auto& enum_names(Fading) { return kFadingNames; }
+inline const char* to_string(Fading f) { return enum_name(f); }
+inline constexpr EnumName<DistortionTest> kDistortionTestNames[] = {{DistortionTest::Patch, "patch"},
+                                                                    {DistortionTest::Vertex, "vertex"}};
+constexpr const auto& enum_names(DistortionTest) { return kDistortionTestNames; }
+inline const char* to_string(DistortionTest t) { return enum_name(t); }
 
 /// Tracking parameters. Lengths in scene units; 0 for radius, thickness and
 /// max_projection means "derive from the first frame" (see resolve()).
