@@ -39,7 +39,7 @@ std::vector<char> chart_mask(const UVMesh& mesh, int size) {
   std::vector<char> mask(static_cast<std::size_t>(size) * size, 0);
   for (const Tri& t : mesh.uv_triangles) {
     std::array<Vec2, 3> p;
-    for (int k = 0; k < 3; ++k) p[k] = Vec2(mesh.uvs[t[k]].x() * size, (1.0 - mesh.uvs[t[k]].y()) * size);
+    for (int k = 0; k < 3; ++k) p[k] = Vec2(u_to_px(mesh.uvs[t[k]].x(), size), v_to_py(mesh.uvs[t[k]].y(), size));
     const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
     const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[2] - p[0]).x() * (p[1] - p[0]).y();
     if (area == 0.0) continue;
@@ -151,11 +151,11 @@ Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale
   out.width = out.height = n;
   out.channels = exemplar.channels();
   out.pixels.resize(static_cast<std::size_t>(n) * n * out.channels);
-  const double w = exemplar.image().width, h = exemplar.image().height;
+  const int w = exemplar.image().width, h = exemplar.image().height;
   float px[3];
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
-      exemplar.sample((x0 + (x + 0.5) * scale) / w, 1.0 - (y0 + (y + 0.5) * scale) / h, px);  // v up, rows down
+      exemplar.sample(px_to_u(x0 + (x + 0.5) * scale, w), py_to_v(y0 + (y + 0.5) * scale, h), px);
       for (int c = 0; c < out.channels; ++c)
         out.pixels[(static_cast<std::size_t>(y) * n + x) * out.channels + c] = px[c];
     }
@@ -180,7 +180,7 @@ void TexturedFrame::color_at(const Vec3& p, float* out) const {
   }
   const Tri& t = mesh.uv_triangles[s.face];
   const Vec2 uv = interpolate(mesh.uvs, t, s.bary);
-  sample_bilinear(atlas, uv.x() * atlas.width, (1.0 - uv.y()) * atlas.height, out);
+  sample_bilinear(atlas, u_to_px(uv.x(), atlas.width), v_to_py(uv.y(), atlas.height), out);
 }
 
 namespace {

@@ -34,7 +34,7 @@ Vec3 view_dir(View view) {  // towards the camera
 /// The atlas at uv (v up, clamped to [0,1]²) as RGB (grey repeated).
 void sample_uv(const Image& im, double u, double v, float out[3]) {
   float px[3] = {0, 0, 0};
-  sample_bilinear(im, std::clamp(u, 0.0, 1.0) * im.width, (1.0 - std::clamp(v, 0.0, 1.0)) * im.height, px, 3);
+  sample_bilinear(im, u_to_px(std::clamp(u, 0.0, 1.0), im.width), v_to_py(std::clamp(v, 0.0, 1.0), im.height), px, 3);
   for (int c = 0; c < 3; ++c) out[c] = px[std::min(c, im.channels - 1)];
 }
 

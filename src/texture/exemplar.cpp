@@ -39,8 +39,8 @@ Exemplar Exemplar::load(const std::string& path) {
 void Exemplar::sample(double u, double v, float* out) const {
   const int w = image_.width, h = image_.height, nc = image_.channels;
   // Texel centres at (i + ½)/w; v up, rows down.
-  const double x = u * w - 0.5;
-  const double y = (1.0 - v) * h - 0.5;
+  const double x = u_to_px(u, w) - 0.5;
+  const double y = v_to_py(v, h) - 0.5;
   const double fx = std::floor(x), fy = std::floor(y);
   const double tx = x - fx, ty = y - fy;
   auto wrap = [](long i, int n) {

@@ -25,6 +25,14 @@
 
 namespace fluidtex {
 
+/// The uv ↔ pixel convention of every atlas and exemplar, stated once: uv in
+/// [0,1]² with v up (OBJ and DCCs); pixel rows top-down; pixel (x, y) covers
+/// [x, x+1) × [y, y+1), its centre at (x + ½, y + ½).
+inline double u_to_px(double u, int width) { return u * width; }
+inline double v_to_py(double v, int height) { return (1.0 - v) * height; }
+inline double px_to_u(double x, int width) { return x / width; }
+inline double py_to_v(double y, int height) { return 1.0 - y / height; }
+
 struct Image {
   int width = 0;
   int height = 0;
