@@ -735,7 +735,7 @@ SynthesisResult Synthesizer::run() {
     locator_ = std::make_unique<PatchLocator>(patches_, tolerance_);
   } else {
     bins_ = bin_triangles();
-    result.exact_triangles = bins_.projected;
+    result.projected_triangles = bins_.projected;
   }
   auto layer = [&](Image& im, int channels) {
     im.width = im.height = n_;

@@ -10,8 +10,9 @@
 ///  - `Raster` (default): every patch vertex already has its projection on
 ///    the surface (triangle + barycentrics), hence an atlas position; a patch
 ///    triangle whose corners lie in one chart is rasterised straight into the
-///    atlas. Triangles spanning charts fall back to exact projection of the
-///    texels of the surface triangles under them.
+///    atlas. Triangles spanning charts (or next to a chart border) take the
+///    projected fallback: the texels of the surface triangles under them are
+///    projected onto them one by one, as in `Exact`.
 ///  - `Exact`: the paper's method (Sec. 7.1), each texel's 3D point projected
 ///    through every patch triangle near it; the reference for tests.
 /// Both run in parallel over atlas tiles and accumulate each texel's
@@ -54,19 +55,20 @@ struct SynthesisOptions {
   /// no disk reaches and fades out continuously where one does. Must be > 0
   /// (the job sets --radius).
   double radius = 0.0;
-  double projection_tolerance = 0;  ///< exact projection slack (scene units); the job sets mpt
-  bool aov = false;                 ///< also fill weight / count / patch layers
+  double projection_tolerance =
+      0;             ///< projection slack (scene units) of Exact and the projected fallback; the job sets mpt
+  bool aov = false;  ///< also fill weight / count / patch layers
 };
 
 struct SynthesisResult {
-  Image color;                       ///< atlas colour (exemplar channels), gutters dilated
-  Image weight;                      ///< Σw per texel (with aov)
-  Image count;                       ///< number of patches blended per texel (with aov)
-  Image patch;                       ///< dominant patch id as a colour (with aov)
-  std::size_t chart_texels = 0;      ///< texels inside charts
-  std::size_t uncovered_texels = 0;  ///< of those, texels with Σw = 0
-  std::size_t clamped_texels = 0;    ///< texels where a channel left [0,1]
-  std::size_t exact_triangles = 0;   ///< patch triangles that fell back to exact projection (Raster)
+  Image color;                          ///< atlas colour (exemplar channels), gutters dilated
+  Image weight;                         ///< Σw per texel (with aov)
+  Image count;                          ///< number of patches blended per texel (with aov)
+  Image patch;                          ///< dominant patch id as a colour (with aov)
+  std::size_t chart_texels = 0;         ///< texels inside charts
+  std::size_t uncovered_texels = 0;     ///< of those, texels with Σw = 0
+  std::size_t clamped_texels = 0;       ///< texels where a channel left [0,1]
+  std::size_t projected_triangles = 0;  ///< patch triangles that took the projected fallback (Raster)
   double uncovered_fraction() const {
     return chart_texels ? static_cast<double>(uncovered_texels) / static_cast<double>(chart_texels) : 0.0;
   }
