@@ -72,8 +72,7 @@ bool flatten_lscm(const DiskMesh& mesh, std::vector<Vec2>& uvs, std::string* fai
   double area3 = 0.0, area_uv = 0.0;
   for (const Tri& t : mesh.triangles) {
     area3 += triangle_area(mesh.positions, t);
-    const Vec2 e1 = uvs[t[1]] - uvs[t[0]], e2 = uvs[t[2]] - uvs[t[0]];
-    area_uv += 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+    area_uv += signed_area(uvs[t[0]], uvs[t[1]], uvs[t[2]]);
   }
   if (!(std::abs(area_uv) > 0.0) || !(area3 > 0.0) || !std::isfinite(area_uv))
     return fail("degenerate parameterisation");

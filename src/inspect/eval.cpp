@@ -397,9 +397,7 @@ double texel_density(const UVMesh& mesh, int size) {
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     const Tri& t = mesh.triangles[f];
     a3 += triangle_area(mesh.positions, t);
-    const Tri& u = mesh.uv_triangles[f];
-    const Vec2 e1 = mesh.uvs[u[1]] - mesh.uvs[u[0]], e2 = mesh.uvs[u[2]] - mesh.uvs[u[0]];
-    a2 += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x()) * size * size;
+    a2 += triangle_area(mesh.uvs, mesh.uv_triangles[f]) * size * size;
   }
   return a3 > 0.0 ? std::sqrt(a2 / a3) : 0.0;
 }

@@ -41,8 +41,7 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const 
   const std::size_t nv = patch.uvs.size();
   std::vector<double> area(nv, 0.0);
   for (const Tri& t : patch.triangles) {
-    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
-    const double a = std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / 6.0;
+    const double a = triangle_area(patch.uvs, t) / 3.0;  // a third to each corner
     for (int v : t) area[v] += a;
   }
   // Normal equations of the weighted fit; lower degrees come first, so the
@@ -147,17 +146,28 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
   // Margin triangles (no corner inside the disk) stretched beyond δmax are
   // cut off: they carry almost no weight, and unbounded they would grow
   // without limit in diverging flows.
+  std::vector<double> distortion(patch.triangles.size());
   std::vector<std::uint8_t> keep(patch.triangles.size(), 1);
   bool cut = false;
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& tri = patch.triangles[t];
-    if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) continue;
-    const double d =
+    distortion[t] =
         triangle_distortion(patch.rest[t], patch.positions[tri[0]], patch.positions[tri[1]], patch.positions[tri[2]]);
-    if (d > options.max_distortion) keep[t] = 0, cut = true;
+    if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) continue;
+    if (distortion[t] > options.max_distortion) keep[t] = 0, cut = true;
   }
-  if (cut) remove_triangles(patch, keep, surface);
+  if (cut) {
+    remove_triangles(patch, keep, surface);  // keeps the order of the kept triangles
+    std::size_t next = 0;
+    for (std::size_t t = 0; t < keep.size(); ++t) {
+      if (keep[t]) distortion[next++] = distortion[t];
+    }
+    distortion.resize(next);
+  }
   const std::size_t nv = patch.positions.size();
+  // The surface normal under each vertex, once (a vertex has several triangles).
+  std::vector<Vec3> surface_normal(nv);
+  for (std::size_t v = 0; v < nv; ++v) surface_normal[v] = surface.normal_at(patch.projections[v]);
   std::vector<double> sum(nv, 0.0);
   std::vector<int> count(nv, 0);
   std::vector<double> weight(nv, 0.0);
@@ -173,13 +183,13 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
     const Vec3& q0 = patch.positions[tri[0]];
     const Vec3& q1 = patch.positions[tri[1]];
     const Vec3& q2 = patch.positions[tri[2]];
-    const double d = triangle_distortion(patch.rest[t], q0, q1, q2);
+    const double d = distortion[t];
     if (visible) patch.max_distortion = std::max(patch.max_distortion, d);
     const double q = triangle_quality(d, options.max_distortion);
     // Area-weighted mean (rest area): reconstructed surfaces are full of
     // slivers whose shape is noise, and a plain mean lets one of them decide.
     const RestTriangle& r = patch.rest[t];
-    const double area = 0.5 * std::abs((r[1] - r[0]).x() * (r[2] - r[0]).y() - (r[1] - r[0]).y() * (r[2] - r[0]).x());
+    const double area = triangle_area(r[0], r[1], r[2]);
     for (int v : tri) {
       sum[v] += q * area;
       weight[v] += area;
@@ -188,7 +198,7 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
     // Flipped: the triangle's normal turned against the surface under it.
     const Vec3 n = (q1 - q0).cross(q2 - q0);
     Vec3 surface_n = Vec3::Zero();
-    for (int v : tri) surface_n += surface.normal_at(patch.projections[v]);
+    for (int v : tri) surface_n += surface_normal[v];
     const bool tri_flipped = n.dot(surface_n) < 0.0;
     // Stretched across two disconnected pieces of the surface.
     const int c0 = component[patch.projections[tri[0]].face];

@@ -9,7 +9,7 @@ double seen_weight(const Patch& patch, std::size_t t, double radius) {
   const double radial = 1.0 - ((patch.uvs[tri[0]] + patch.uvs[tri[1]] + patch.uvs[tri[2]]) / 3.0).norm() / radius;
   if (!(radial > 0.0)) return 0.0;
   const RestTriangle& r = patch.rest[t];
-  return radial * 0.5 * std::abs((r[1] - r[0]).x() * (r[2] - r[0]).y() - (r[1] - r[0]).y() * (r[2] - r[0]).x());
+  return radial * triangle_area(r[0], r[1], r[2]);
 }
 
 std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles) {

@@ -106,8 +106,7 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
   // Drop triangles LSCM folded over (rare, on very curved selections).
   std::vector<Tri> kept;
   for (const Tri& t : patch.triangles) {
-    const Vec2 e1 = patch.uvs[t[1]] - patch.uvs[t[0]], e2 = patch.uvs[t[2]] - patch.uvs[t[0]];
-    if (e1.x() * e2.y() - e1.y() * e2.x() > 0.0) kept.push_back(t);
+    if (signed_area(patch.uvs[t[0]], patch.uvs[t[1]], patch.uvs[t[2]]) > 0.0) kept.push_back(t);
   }
   if (kept.empty()) return fail("parameterisation folded over");
   const bool folded = kept.size() != patch.triangles.size();

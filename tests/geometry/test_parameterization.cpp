@@ -24,10 +24,7 @@ double area_3d(const DiskMesh& m) {
   return a;
 }
 
-double signed_area_uv(const std::vector<Vec2>& uv, const Tri& t) {
-  const Vec2 e1 = uv[t[1]] - uv[t[0]], e2 = uv[t[2]] - uv[t[0]];
-  return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
-}
+double signed_area_uv(const std::vector<Vec2>& uv, const Tri& t) { return signed_area(uv[t[0]], uv[t[1]], uv[t[2]]); }
 
 TEST(Parameterization, FlatGridFlattensIsometricallyAndKeepsOrientation) {
   const DiskMesh grid = disk_of(test::flat_grid(6, 2.0));

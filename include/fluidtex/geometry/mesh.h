@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <type_traits>
 #include <vector>
@@ -21,6 +22,20 @@ namespace fluidtex {
 using Vec3 = Eigen::Vector3d;
 using Vec2 = Eigen::Vector2d;
 using Tri = std::array<int, 3>;
+
+/// Signed area of the 2D triangle (a, b, c): positive when counter-clockwise.
+inline double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const Vec2 e1 = b - a, e2 = c - a;
+  return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+}
+
+/// Area of the 2D triangle (a, b, c).
+inline double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) { return std::abs(signed_area(a, b, c)); }
+
+/// Area of triangle `t` of the 2D `points`.
+inline double triangle_area(const std::vector<Vec2>& points, const Tri& t) {
+  return triangle_area(points[t[0]], points[t[1]], points[t[2]]);
+}
 
 /// Area of the 3D triangle (a, b, c).
 inline double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
