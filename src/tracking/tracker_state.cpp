@@ -101,10 +101,6 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(o.thickness), r.get(o.kill_alpha), r.get(o.min_vertex_quality), r.get(o.selection_margin);
   std::uint8_t test;
   r.get(criterion), r.get(fading), r.get(test), r.get(advection), r.get(s.seed), r.get(s.candidates_per_disk);
-  if (test > static_cast<std::uint8_t>(DistortionTest::Vertex) || fading > static_cast<std::uint8_t>(Fading::Linear)) {
-    throw InputError(r.path(), "corrupt state file (settings)");
-  }
-  o.distortion_test = static_cast<DistortionTest>(test);
   r.get(s.min_component_area);
   std::uint8_t coverage_aware;
   r.get(coverage_aware);
@@ -112,13 +108,12 @@ void get_settings(Reader& r, TrackerSettings& s) {
   r.get(s.patch_edge);
   std::uint8_t motion;
   r.get(motion);
-  if (motion > static_cast<std::uint8_t>(PatchMotion::Smooth))
+  if (!enum_from_raw(criterion, o.criterion) || !enum_from_raw(fading, o.fading) ||
+      !enum_from_raw(test, o.distortion_test) || !enum_from_raw(advection, s.advection) ||
+      !enum_from_raw(motion, s.motion)) {
     throw InputError(r.path(), "corrupt state file (settings)");
-  s.motion = static_cast<PatchMotion>(motion);
+  }
   o.fade_frames = fade;
-  o.criterion = static_cast<Criterion>(criterion);
-  o.fading = static_cast<Fading>(fading);
-  s.advection = static_cast<Advection>(advection);
 }
 
 }  // namespace
@@ -193,8 +188,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     std::uint8_t state, cause;
     std::int32_t created, flagged, density;
     r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
-    p.state = static_cast<DiskState>(state);
-    p.cause = static_cast<RetireCause>(cause);
+    const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density;
     r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor);
     r.get_vector(p.positions), r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
@@ -202,7 +196,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
     const std::size_t nv = p.positions.size();
     bool ok = p.projections.size() == nv && p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv &&
-              p.weight.size() == nv && p.rest.size() == p.triangles.size() && state <= 3 && cause < kRetireCauses;
+              p.weight.size() == nv && p.rest.size() == p.triangles.size() && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }
@@ -218,8 +212,9 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     std::uint8_t cause;
     std::int32_t age;
     r.get(x.id), r.get(cause), r.get(age);
-    if (cause == 0 || cause >= kRetireCauses || age < 0) throw InputError(path, "corrupt state file (retired patch)");
-    x.cause = static_cast<RetireCause>(cause), x.age = age;
+    if (!enum_from_raw(cause, x.cause) || x.cause == RetireCause::None || age < 0)
+      throw InputError(path, "corrupt state file (retired patch)");
+    x.age = age;
   }
   if (!r.done()) throw InputError(path, "corrupt state file (trailing bytes)");
   t.frame_ = frame;

@@ -461,6 +461,14 @@ TEST(Tracker, StateFileErrors) {
   const std::string bytes = test::read_file(dir.file("s.bin"));
   test::write_file(dir.path() / "t.bin", bytes.substr(0, bytes.size() / 2));
   EXPECT_THROW(Tracker::load(dir.file("t.bin"), rotating_grid(1.0)), InputError);
+  // An enum byte out of its range (criterion, then advection: 8-byte magic,
+  // 4-byte version, 84 bytes of lengths and counts before them).
+  for (std::size_t at : {96u, 99u}) {
+    std::string bad = bytes;
+    bad[at] = 7;
+    test::write_file(dir.path() / "e.bin", bad);
+    EXPECT_THROW(Tracker::load(dir.file("e.bin"), rotating_grid(1.0)), InputError) << at;
+  }
   test::write_file(dir.path() / "u.bin", "hello");
   EXPECT_THROW(Tracker::load(dir.file("u.bin"), rotating_grid(1.0)), InputError);
   EXPECT_THROW(Tracker::load(dir.file("missing.bin"), rotating_grid(1.0)), InputError);

@@ -10,6 +10,7 @@
 /// list of choices from that one table.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,19 @@ std::vector<std::string> enum_choices() {
   std::vector<std::string> out;
   for (const auto& entry : enum_names(E{})) out.emplace_back(entry.name);
   return out;
+}
+
+/// The value whose underlying integer is `raw` (as a binary file stores it),
+/// when E's table has one.
+template <class E>
+bool enum_from_raw(std::uint64_t raw, E& out) {
+  for (const auto& [v, name] : enum_names(E{})) {
+    if (static_cast<std::uint64_t>(v) == raw) {
+      out = v;
+      return true;
+    }
+  }
+  return false;
 }
 
 /// The value named `s`; otherwise InputError "--OPTION must be a, b or c
