@@ -202,7 +202,10 @@ RetireCause judge(F&& f, DistortionTest test, bool drop_half = false) {
   c.point = surface.closest_point(Vec3(0.5, 0.5, 0));
   c.normal = surface.normal_at(c.point);
   std::optional<Patch> p = build_patch(surface, c, o, 1, 1, 1, 0.0);
-  EXPECT_TRUE(p);
+  if (!p) {
+    ADD_FAILURE() << "no patch built";
+    return RetireCause::None;
+  }
   for (Vec3& x : p->positions) x = f(x);
   if (drop_half) {  // drop the vertices on one side of the centre (lost past mpt)
     std::vector<std::uint8_t> keep(p->positions.size(), 1);
