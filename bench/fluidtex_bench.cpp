@@ -67,8 +67,8 @@ void run_case(const Case& c, int warmup, bool exact, int threads) {
   const double atlas_seconds = now() - t0;
   SynthesisOptions opt;
   const TrackingOptions& o = tracker.settings().method;
-  opt.tile_size = (2.0 + o.selection_margin) * o.radius;
-  opt.projection_tolerance = o.max_projection;
+  opt.tile_size = o.exemplar_tile_size();
+  opt.projection_tolerance = o.mpt();
   t0 = now();
   const SynthesisResult raster = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
   const double raster_seconds = now() - t0;

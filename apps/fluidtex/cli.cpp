@@ -7,12 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 #include <oneapi/tbb/global_control.h>
@@ -24,6 +22,7 @@
 #include "fluidtex/inspect/render.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/job/job_options.h"
 #include "fluidtex/job/pipeline.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
@@ -98,26 +97,44 @@ class TerminalReporter : public Reporter {
   std::chrono::steady_clock::time_point start_, last_{};
 };
 
+/// A library option (util/options.h) on the command line: its flags, help,
+/// section, default and choices, parsed and validated by the library.
+CLI::Option* add_table_option(CLI::App* cmd, const OptionRef& ref) {
+  const std::string flags = (*ref.info.alias != '\0' ? std::string(ref.info.alias) + "," : "") + "--" + ref.info.name;
+  CLI::Option* op = nullptr;
+  const auto set = ref.set;
+  switch (ref.kind) {
+    case OptionRef::Kind::Flag:
+      op = cmd->add_flag_callback(
+          flags, [set] { set({"true"}); }, ref.info.help);
+      break;
+    case OptionRef::Kind::Value:
+      op = cmd->add_option_function<std::string>(
+          flags, [set](const std::string& v) { set({v}); }, ref.info.help);
+      if (const std::string d = ref.text(); !d.empty()) op->default_str(d);
+      op->type_name(ref.type);
+      break;
+    case OptionRef::Kind::List:
+      op = cmd->add_option_function<std::vector<std::string>>(
+                  flags, [set](const std::vector<std::string>& v) { set(v); }, ref.info.help)
+               ->delimiter(',')
+               ->type_name(ref.type);
+      break;
+  }
+  if (!ref.choices.empty()) op->check(CLI::IsMember(ref.choices));
+  if (*ref.info.group != '\0') op->group(ref.info.group);
+  return op;
+}
+
 /// Options every subcommand reading a sequence shares. `preview` reads the
 /// input only for its overlays: -i is optional there and --frames is its own.
 void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
-  CLI::Option* input = cmd->add_option("-i,--input", in.pattern,
-                                       preview ? "The run's input frame pattern (needed by --overlay)"
-                                               : "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply");
-  if (preview) {
-    cmd->add_option("--fps", in.fps, "Frames per second of the input; the frame step is 1/fps")->capture_default_str();
-  } else {
-    input->required();
-    cmd->add_option("--frames", in.frames, "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)");
-    cmd->add_option("--fps", in.fps, "Frames per second; the frame step is 1/fps")->capture_default_str();
-  }
-  cmd->add_option("--velocity-attr", in.velocity_attr,
-                  "Velocity property names 'a,b,c' or a prefix P (P_x or Px...); default: vx vy vz, "
-                  "velocity_x..., v_x...");
-  cmd->add_flag("--velocity-from-positions", in.velocity_from_positions,
-                "Derive velocities from neighbouring frames by central differences (constant vertex "
-                "count and order; needed for OBJ input)");
-  cmd->add_flag("--strict", in.strict, "Reject non-manifold frames instead of carrying on");
+  InputOptions::for_each_option(in, [&](OptionInfo info, auto& field) {
+    const std::string name = info.name;
+    if (preview && name == "frames") return;
+    if (preview && name == "input") info.help = "The run's input frame pattern (needed by --overlay)";
+    add_table_option(cmd, bind_option(info, field));
+  });
 }
 
 std::unique_ptr<tbb::global_control> limit_threads(int threads) {
@@ -128,213 +145,25 @@ std::unique_ptr<tbb::global_control> limit_threads(int threads) {
 
 struct RunArgs {
   JobOptions job;
-  std::string criterion = to_string(TrackingOptions{}.criterion);
-  std::string fading = to_string(TrackingOptions{}.fading);
-  std::string distortion_test = to_string(TrackingOptions{}.distortion_test);
-  std::string advection = to_string(JobOptions{}.advection);
-  std::string patch_motion = to_string(JobOptions{}.patch_motion);
-  std::string blend = to_string(SynthesisJobOptions{}.blend);
-  std::string synthesis = to_string(SynthesisJobOptions{}.method);
-  std::string method = to_string(JobOptions{}.method);
-  std::string flowmap_axis = to_string(FlowMapOptions{}.axis);
-  bool float_output = false;
-  bool no_coverage_check = false;
-  int verbosity = 0;
+  bool verbose = false;
   bool quiet = false;
   bool print_config = false;
   std::string config;
+  /// The console options a config file may set too.
+  std::vector<OptionRef> console() {
+    return {bind_option({.name = "verbose", .help = "More detail on stderr", .alias = "-v"}, verbose),
+            bind_option({.name = "quiet", .help = "Only warnings and errors", .alias = "-q"}, quiet)};
+  }
 };
 
-/// Reads a TOML config file through CLI11. CLI11 2.1 cuts a value at the
-/// first '#' even inside quotes (input="mesh.####.ply" read back as
-/// "mesh."), so comments are stripped here, outside quotes only, and CLI11
-/// is told that nothing else starts one.
-std::vector<CLI::ConfigItem> read_toml(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot read config file");
-  std::stringstream clean;
-  for (std::string line; std::getline(in, line);) {
-    char quote = 0;
-    for (std::size_t k = 0; k < line.size(); ++k) {
-      const char c = line[k];
-      if (quote == '"' && c == '\\') {
-        ++k;  // an escaped character inside a basic string
-      } else if (quote != 0) {
-        if (c == quote) quote = 0;
-      } else if (c == '"' || c == '\'') {
-        quote = c;
-      } else if (c == '#') {
-        line.erase(k);
-        break;
-      }
-    }
-    clean << line << '\n';
-  }
-  CLI::ConfigTOML toml;
-  toml.comment('\0');
-  return toml.from_config(clean);
-}
-
-/// Applies a TOML config file (the format --print-config writes) to the
-/// options of `cmd` that were not given on the command line.
-void apply_config(CLI::App* cmd, const std::string& path) {
-  std::vector<CLI::ConfigItem> items;
-  try {
-    items = read_toml(path);
-  } catch (const CLI::ParseError& e) {
-    throw InputError(path, std::string("malformed config file: ") + e.what());
-  }
-  for (const CLI::ConfigItem& item : items) {
-    if (item.name == "++" || item.name == "--") continue;  // section markers
-    if (!item.parents.empty() && !(item.parents.size() == 1 && item.parents[0] == cmd->get_name())) continue;
-    CLI::Option* op = cmd->get_option_no_throw("--" + item.name);
-    if (op == nullptr || !op->get_configurable()) throw InputError(path, "unknown option '" + item.name + "'");
-    if (op->count() > 0) continue;
-    std::vector<std::string> inputs = item.inputs;
-    // A list option printed empty (aov="") reads back as one empty element.
-    if (op->get_items_expected_max() > 1) std::erase(inputs, std::string());
-    if (inputs.empty() && op->get_items_expected_max() > 1) continue;
-    try {
-      op->add_result(inputs);
-      op->run_callback();
-    } catch (const CLI::ParseError& e) {
-      throw InputError(path, "option '" + item.name + "': " + e.what());
-    }
-  }
-}
-
-/// The options of `run`, bound to `args` (also used to read back a run's
-/// OUT/job.toml).
+/// The options of `run`: the job's table (job/job_options.h), then the
+/// console and config options of the command line.
 void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
-  // CLI11 2.1 does not read a subcommand's own config file before its
-  // callback, so --config is applied by hand (apply_config).
+  for (const OptionRef& ref : option_table(args->job)) add_table_option(run, ref);
+  for (const OptionRef& ref : args->console()) add_table_option(run, ref);
   run->add_option("--config", args->config,
-                  "Read options from a TOML file (see --print-config); "
-                  "options given on the command line win")
-      ->configurable(false);
-  add_input_options(run, args->job.input);
-  // -i and -o may come from --config, which is applied after CLI11's own
-  // required-option check: the job validates both (one-line error, exit 2).
-  run->get_option("--input")->required(false);
-  run->add_option("-o,--output", args->job.output.dir, "Output folder (required)");
-  run->add_option("-e,--exemplar", args->job.exemplar,
-                  "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB "
-                  "and linearised, float files as linear)");
-  run->add_option("--atlas", args->job.output.atlas_pattern,
-                  "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)");
-  run->add_option("--mesh", args->job.output.mesh_pattern,
-                  "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)");
-  run->add_flag("--resume", args->job.output.resume, "Continue after the last complete frame in OUT");
-  run->add_flag("--debug-views", args->job.output.debug_views,
-                "Write per-frame PLYs of the patches and of the disks coloured by state");
-  run->add_option("--method", args->method,
-                  "patches: Gagnon et al. 2019; flowmap: the two-phase advected-UV baseline (same outputs, no state)")
-      ->check(CLI::IsMember(enum_choices<TexturingMethod>()))
-      ->capture_default_str()
-      ->group("Method");
-  run->add_option("--flowmap-period", args->job.flowmap.period,
-                  "flowmap: frames between two resets of a uv phase (>= 2); phase B is offset by half of it")
-      ->capture_default_str()
-      ->group("Method");
-  run->add_option("--flowmap-axis", args->flowmap_axis,
-                  "flowmap: rest uv = position projected along this axis (z: the generated scenes' normal / up axis)")
-      ->check(CLI::IsMember(enum_choices<Axis>()))
-      ->capture_default_str()
-      ->group("Method");
-  CLI::App* method = run;
-  visit_options(args->job.tracking, [&](const char* name, auto& field, const char* help) {
-    method->add_option(std::string("--") + name, field, help)->capture_default_str()->group("Method (Tables 3, 4)");
-  });
-  run->add_option("--criterion", args->criterion, "Poisson rejection: ellipsoid (paper), sphere, plane")
-      ->check(CLI::IsMember(enum_choices<Criterion>()))
-      ->capture_default_str()
-      ->group("Method (Tables 3, 4)");
-  run->add_flag("--no-coverage-check", args->no_coverage_check,
-                "Poisson update without the coverage test: a candidate rejected by a disk is never seeded, "
-                "even where no patch covers the surface (the paper's plain dart throwing)")
-      ->group("Method (Tables 3, 4)");
-  run->add_option("--fading", args->fading,
-                  "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its radius), "
-                  "density (Eq. 6, paper) or linear (Eq. 5)")
-      ->check(CLI::IsMember(enum_choices<Fading>()))
-      ->capture_default_str()
-      ->group("Method (Tables 3, 4)");
-  run->add_option("--advection", args->advection, "Patch advection: heun (second order) or euler (x + v dt)")
-      ->check(CLI::IsMember(enum_choices<Advection>()))
-      ->capture_default_str()
-      ->group("Method (Tables 3, 4)");
-  run->add_option("--distortion-test", args->distortion_test,
-                  "patch: a patch is too distorted when its mean quality over the disk (weighted as K_S) is below "
-                  "Q_vmin; vertex: when any vertex inside the disk is (paper)")
-      ->check(CLI::IsMember(enum_choices<DistortionTest>()))
-      ->capture_default_str()
-      ->group("Method (Tables 3, 4)");
-  run->add_option("--patch-motion", args->patch_motion,
-                  "smooth: a patch moves by one smooth (cubic) map fitted to its advected vertices, so that "
-                  "velocity and re-meshing noise cannot crush its triangles; vertex: every vertex on its own (paper)")
-      ->check(CLI::IsMember(enum_choices<PatchMotion>()))
-      ->capture_default_str()
-      ->group("Method (Tables 3, 4)");
-  SynthesisJobOptions& so = args->job.synthesis;
-  run->add_option("--atlas-size", so.atlas.size, "Atlas width and height in texels")
-      ->capture_default_str()
-      ->group("Synthesis");
-  run->add_option("--gutter", so.atlas.gutter, "Texels between charts, filled by dilation")
-      ->capture_default_str()
-      ->group("Synthesis");
-  run->add_option("--blend", args->blend,
-                  "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)")
-      ->check(CLI::IsMember(enum_choices<Blend>()))
-      ->capture_default_str()
-      ->group("Synthesis");
-  run->add_option("--synthesis", args->synthesis,
-                  "raster: patch triangles rasterised in atlas space; exact: per-texel projection (reference, slow)")
-      ->check(CLI::IsMember(enum_choices<SynthesisMethod>()))
-      ->capture_default_str()
-      ->group("Synthesis");
-  run->add_option("--aov", so.aov, "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch")
-      ->delimiter(',')
-      ->group("Synthesis");
-  run->add_flag("--displacement", so.displacement, "Write a one-channel height atlas (the exemplar is turned to grey)")
-      ->group("Synthesis");
-  run->add_flag("--float", args->float_output, "32-bit float EXR/TIFF instead of half / 16-bit")->group("Synthesis");
-  run->add_flag("--track-only", so.track_only, "Track patches only: state files and stats, no atlas or mesh")
-      ->group("Synthesis");
-  run->add_option("--threads", args->job.threads, "Worker threads (0 = all cores)")->capture_default_str();
-  run->add_option("--seed", args->job.seed, "Random seed")->capture_default_str();
-  run->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
-  run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
-  run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit")
-      ->configurable(false);
-}
-
-/// The named choices turned into the job's enums.
-void finish_run_args(RunArgs& args) {
-  args.job.tracking.criterion = parse_enum<Criterion>(args.criterion, "criterion");
-  args.job.tracking.fading = parse_enum<Fading>(args.fading, "fading");
-  args.job.tracking.distortion_test = parse_enum<DistortionTest>(args.distortion_test, "distortion-test");
-  args.job.advection = parse_enum<Advection>(args.advection, "advection");
-  args.job.patch_motion = parse_enum<PatchMotion>(args.patch_motion, "patch-motion");
-  args.job.synthesis.blend = parse_enum<Blend>(args.blend, "blend");
-  args.job.synthesis.method = parse_enum<SynthesisMethod>(args.synthesis, "synthesis");
-  if (args.float_output) args.job.synthesis.depth = PixelDepth::Float;
-  args.job.coverage_check = !args.no_coverage_check;
-  args.job.method = parse_enum<TexturingMethod>(args.method, "method");
-  args.job.flowmap.axis = parse_enum<Axis>(args.flowmap_axis, "flowmap-axis");
-}
-
-/// The options a finished run was made with, from its OUT/job.toml.
-JobOptions read_job_manifest(const std::string& run_dir) {
-  const std::string path = run_dir + "/job.toml";
-  if (!std::filesystem::exists(path)) {
-    throw InputError(path, "missing: not the output folder of a fluidtex run (or one made before job.toml existed)");
-  }
-  CLI::App app("run", "run");
-  auto args = std::make_shared<RunArgs>();
-  define_run_options(&app, args);
-  apply_config(&app, path);
-  finish_run_args(*args);
-  return args->job;
+                  "Read options from a TOML file (see --print-config); options given on the command line win");
+  run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit");
 }
 
 void add_run(CLI::App& app, int& exit_code) {
@@ -342,15 +171,21 @@ void add_run(CLI::App& app, int& exit_code) {
   CLI::App* run = app.add_subcommand("run", "Track patches and synthesise the texture atlas of every frame");
   define_run_options(run, args);
   run->callback([run, args, &exit_code]() {
-    if (!args->config.empty()) apply_config(run, args->config);
+    if (!args->config.empty()) {
+      // CLI11 2.1 does not read a subcommand's own config file before its
+      // callback: the library applies it to what the command line left unset.
+      const auto given = [run](const std::string& name) {
+        const CLI::Option* op = run->get_option_no_throw("--" + name);
+        return op != nullptr && op->count() > 0;
+      };
+      apply_job_file(args->job, args->config, given, args->console());
+    }
     if (args->print_config) {
-      std::cout << run->config_to_str(true, true);
+      std::cout << job_toml(args->job);
       exit_code = 0;
       return;
     }
-    finish_run_args(*args);
-    args->job.manifest = run->config_to_str(true, true);
-    TerminalReporter reporter(args->verbosity, args->quiet);
+    TerminalReporter reporter(args->verbose ? 1 : 0, args->quiet);
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);
     reporter.info("fluidtex: " + std::to_string(summary.frames) + " frames in " + std::to_string(summary.seconds) +

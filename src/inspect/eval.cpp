@@ -515,7 +515,7 @@ struct PatchHistory {
 void patch_metrics(const Tracker& tracker, const JobOptions& job, const Exemplar& exemplar, Row& row) {
   const TrackingOptions& o = tracker.settings().method;
   const std::vector<Patch>& patches = tracker.patches();
-  const PatchCoverage coverage(patches, o.max_projection);
+  const PatchCoverage coverage(patches, o.mpt());
   row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage));
   SynthesisOptions so = synthesis_options(o, job.synthesis);
   so.aov = true;

@@ -10,7 +10,7 @@ namespace fluidtex {
 
 void InputOptions::validate() const {
   if (pattern.empty()) throw InputError("", "-i/--input: an input frame pattern is required");
-  if (!(std::isfinite(fps) && fps > 0.0)) throw InputError("", "--fps must be > 0");
+  check_options(*this);
 }
 
 Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(options.pattern) {

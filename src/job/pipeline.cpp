@@ -24,59 +24,6 @@
 
 namespace fluidtex {
 
-namespace {
-
-std::string checked_pattern(const std::string& given, const std::string& fallback,
-                            std::initializer_list<const char*> extensions, const char* option) {
-  const std::string pattern = given.empty() ? fallback : given;
-  FramePattern parsed(pattern);  // throws without a frame token
-  const std::string ext = lower_extension(pattern);
-  for (const char* e : extensions) {
-    if (ext == e) return pattern;
-  }
-  std::string known;
-  for (const char* e : extensions) known += std::string(known.empty() ? "" : ", ") + e;
-  throw InputError(pattern, std::string(option) + ": unsupported extension '" + ext + "' (use " + known + ")");
-}
-
-}  // namespace
-
-std::string OutputOptions::atlas() const {
-  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"}, "--atlas");
-}
-
-std::string OutputOptions::mesh() const {
-  return checked_pattern(mesh_pattern, dir + "/mesh.####.obj", {".obj", ".ply"}, "--mesh");
-}
-
-void SynthesisJobOptions::validate() const {
-  atlas.validate();
-  for (const std::string& layer : aov) {
-    if (layer != "weight" && layer != "count" && layer != "patch") {
-      throw InputError("", "--aov: unknown layer '" + layer + "' (use weight, count, patch)");
-    }
-  }
-}
-
-void JobOptions::validate() const {
-  input.validate();
-  tracking.validate();
-  synthesis.validate();
-  if (exemplar.empty() && !synthesis.track_only) {
-    throw InputError("", "-e/--exemplar: an exemplar image is required (or --track-only)");
-  }
-  if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
-  (void)output.atlas();
-  (void)output.mesh();
-  if (threads < 0) throw InputError("", "--threads must be >= 0 (0 = all cores)");
-  flowmap.validate();
-  if (method == TexturingMethod::FlowMap) {
-    if (output.resume) throw InputError("", "--resume: --method flowmap keeps no state to resume from");
-    if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");
-    if (output.debug_views) throw InputError("", "--debug-views: --method flowmap has no patches or disks to show");
-  }
-}
-
 std::string state_path(const std::string& dir, int frame) {
   return FramePattern(dir + "/state/patches.####.bin").path(frame);
 }
@@ -110,11 +57,11 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   synth.blend = so.blend;
   synth.method = so.method;
   synth.uv_scale = resolved.uv_scale;
-  synth.radius = resolved.radius;
+  synth.radius = resolved.d();
   // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
   // a tile, each patch a different part of it (its random anchor).
   synth.tile_size = resolved.exemplar_tile_size();
-  synth.projection_tolerance = resolved.max_projection;  // as the tracker's coverage test
+  synth.projection_tolerance = resolved.mpt();  // as the tracker's coverage test
   synth.aov = !so.aov.empty();
   return synth;
 }
@@ -138,7 +85,7 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
 
   t0 = Clock::now();
   ImageWriteOptions write;
-  write.depth = so.depth;
+  write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
   write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
   for (const std::string& layer : so.aov) {
     const Image& image = layer == "weight" ? result.weight : layer == "count" ? result.count : result.patch;
@@ -228,8 +175,8 @@ class PatchTexturing final : public Texturing {
     failed_ += static_cast<std::size_t>(step.failed);
     if (first) {
       const TrackingOptions& o = tracker_.settings().method;
-      reporter.verbose("radius d " + std::to_string(o.radius) + ", thickness cs " + std::to_string(o.thickness) +
-                       ", max projection mpt " + std::to_string(o.max_projection));
+      reporter.verbose("radius d " + std::to_string(o.d()) + ", thickness cs " + std::to_string(o.cs()) +
+                       ", max projection mpt " + std::to_string(o.mpt()));
     }
     if (options_.output.debug_views) write_debug_views(work);
     work.surface = tracker_.shared_surface();
@@ -245,7 +192,7 @@ class PatchTexturing final : public Texturing {
     }
     // Track only: coverage measured on the surface (area with Σw = 0).
     const ScopedStage stage(work.stats.seconds, "coverage");
-    const PatchCoverage coverage(work.patches, work.resolved.max_projection);
+    const PatchCoverage coverage(work.patches, work.resolved.mpt());
     work.stats.uncovered_fraction = uncovered_area_fraction(*work.surface, coverage);
   }
 
@@ -337,7 +284,7 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, Repor
   settings.advection = options.advection;
   settings.motion = options.patch_motion;
   settings.seed = options.seed;
-  settings.coverage_aware = options.coverage_check;
+  settings.coverage_aware = !options.no_coverage_check;
   return Tracker(settings);
 }
 
@@ -376,7 +323,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
                                               exemplar ? &*exemplar : nullptr);
 
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
-  if (!options.manifest.empty()) write_text_atomically(options.output.dir + "/job.toml", options.manifest);
+  write_text_atomically(options.output.dir + "/job.toml", job_toml(options));
   int previous_frame = summary.resumed_after;
 
   // Frames flow through a TBB pipeline: read → track → texture → write.

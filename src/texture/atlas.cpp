@@ -17,8 +17,7 @@
 namespace fluidtex {
 
 void AtlasOptions::validate() const {
-  if (size < 16 || size > 32768) throw InputError("", "--atlas-size must be in [16, 32768]");
-  if (gutter < 1 || gutter > 64) throw InputError("", "--gutter must be in [1, 64]");
+  check_options(*this);
   if (!(normal_cone > -1.0 && normal_cone < 1.0)) throw InputError("", "chart normal cone must be in (-1, 1)");
 }
 

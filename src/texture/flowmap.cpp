@@ -15,9 +15,7 @@
 namespace fluidtex {
 
 void FlowMapOptions::validate() const {
-  if (period < 2) {
-    throw InputError("", "--flowmap-period must be >= 2 (got " + std::to_string(period) + ")");
-  }
+  check_options(*this);
 }
 
 std::array<int, 2> phase_ages(int step, int period) {

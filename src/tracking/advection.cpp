@@ -37,7 +37,7 @@ Vec3 SmoothMap::operator()(const Vec2& uv) const { return coefficients.transpose
 
 bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const TrackingOptions& options,
                     SmoothMap& map) {
-  const double scale = options.radius;
+  const double scale = options.d();
   const std::size_t nv = patch.uvs.size();
   std::vector<double> area(nv, 0.0);
   for (const Tri& t : patch.triangles) {
@@ -88,7 +88,7 @@ bool left_through_rim(const SurfacePoint& p, const SurfaceIndex& surface, double
 
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                           const TrackingOptions& options, Advection scheme, PatchMotion motion) {
-  const double max_projection = options.max_projection, radius = options.radius;
+  const double max_projection = options.mpt(), radius = options.d();
   const std::size_t nv = patch.positions.size();
   std::vector<Vec3> targets(nv);
   for (std::size_t v = 0; v < nv; ++v) targets[v] = advect_target(patch.projections[v], previous, next, dt, scheme);
@@ -142,7 +142,7 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
 RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options) {
   // Only where the patch contributes (|uv| < d, K_S > 0) can its distortion
   // show; the margin out to (1 + β)d only keeps the border away from it.
-  auto inside = [&](int v) { return patch.uvs[v].norm() < options.radius; };
+  auto inside = [&](int v) { return patch.uvs[v].norm() < options.d(); };
   // Margin triangles (no corner inside the disk) stretched beyond δmax are
   // cut off: they carry almost no weight, and unbounded they would grow
   // without limit in diverging flows.
@@ -205,7 +205,7 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
     const bool tri_split =
         component[patch.projections[tri[1]].face] != c0 || component[patch.projections[tri[2]].face] != c0;
     if (visible) flipped = flipped || tri_flipped, split = split || tri_split;
-    const double w = seen_weight(patch, t, options.radius);
+    const double w = seen_weight(patch, t, options.d());
     present += w;
     if (tri_split)
       loss_split += w;
@@ -238,8 +238,8 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
 }
 
 double radial_weight(double r, const TrackingOptions& options) {
-  const double reach = (1.0 + options.selection_margin) * options.radius;
-  return std::max(0.0, 1.0 - r / options.radius) + kCoverageTail * std::max(0.0, 1.0 - r / reach);  // d_uv = d
+  const double reach = (1.0 + options.selection_margin) * options.d();
+  return std::max(0.0, 1.0 - r / options.d()) + kCoverageTail * std::max(0.0, 1.0 - r / reach);  // d_uv = d
 }
 
 float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale) {

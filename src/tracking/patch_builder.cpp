@@ -71,7 +71,7 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     if (failure) *failure = why;
     return std::nullopt;
   };
-  const std::vector<int> faces = select_patch_faces(surface, center, (1.0 + options.selection_margin) * options.radius,
+  const std::vector<int> faces = select_patch_faces(surface, center, (1.0 + options.selection_margin) * options.d(),
                                                     options.patch_vertex_angle);
   if (faces.empty()) return fail("empty selection");
 
@@ -124,7 +124,7 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     update_border(patch, surface);
   }
   patch.anchor = Vec2(uniform(seed, Stream::PatchAnchor, id, 0), uniform(seed, Stream::PatchAnchor, id, 1));
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) patch.disk_weight += seen_weight(patch, t, options.radius);
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) patch.disk_weight += seen_weight(patch, t, options.d());
   return patch;
 }
 

@@ -24,7 +24,7 @@ void parallel_each(std::size_t n, F&& f) {
   });
 }
 
-PoissonParams poisson_params(const TrackingOptions& o) { return {o.radius, o.thickness, o.plane_angle, o.criterion}; }
+PoissonParams poisson_params(const TrackingOptions& o) { return {o.d(), o.cs(), o.plane_angle, o.criterion}; }
 
 }  // namespace
 
@@ -152,7 +152,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     disks.push_back(patches_[i].center);
   }
   auto covers_centre = [&](std::size_t older, std::size_t younger) {
-    return patch_covers(patches_[live[older]], disks[younger].point.position, disks[younger].normal, o.max_projection);
+    return patch_covers(patches_[live[older]], disks[younger].point.position, disks[younger].normal, o.mpt());
   };
   const std::vector<bool> close =
       flag_too_close(disks, params, o.kill_alpha,
@@ -170,7 +170,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     }
   }
   std::vector<SurfaceSample> candidates =
-      surface_candidates(surface, o.radius, settings_.seed, settings_.candidates_per_disk);
+      surface_candidates(surface, o.d(), settings_.seed, settings_.candidates_per_disk);
   // Which candidates the live patches really cover (K_S > 0): their
   // weights are refreshed for the advected shape first.
   std::vector<char> uncovered;
@@ -180,7 +180,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
-    const PatchCoverage coverage(patches_, o.max_projection, &live_mask);
+    const PatchCoverage coverage(patches_, o.mpt(), &live_mask);
     uncovered = uncovered_samples(candidates, coverage);
     // Random candidates miss thin strips (the fillet where a liquid surface
     // meets a wall, narrower than their spacing): the centroid of every face
@@ -195,7 +195,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
       uncovered.push_back(1);
     }
   }
-  return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.radius * o.radius,
+  return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
                    uncovered.empty() ? nullptr : &uncovered);
 }
 
@@ -207,7 +207,7 @@ void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<Surface
   std::vector<std::optional<Patch>> built(fresh.size());
   parallel_each(fresh.size(), [&](std::size_t i) {
     built[i] = build_patch(surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame,
-                           settings_.patch_edge * o.radius);
+                           settings_.patch_edge * o.d());
     if (built[i]) update_distortion(*built[i], surface, o);
   });
   next_id_ += static_cast<std::uint32_t>(fresh.size());

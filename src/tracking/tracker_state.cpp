@@ -3,6 +3,7 @@
 // continues exactly as the original would have.
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 
@@ -78,13 +79,40 @@ class Reader {
   std::size_t pos_ = 0;
 };
 
+// The tracking options in the order TrackingOptions::for_each_option lists
+// them: lengths as doubles (resolved), counts as int32, enums as one byte.
+void put_option(Writer& w, double v) { w.put(v); }
+void put_option(Writer& w, int v) { w.put(static_cast<std::int32_t>(v)); }
+void put_option(Writer& w, const std::optional<double>& v) {
+  if (!v) throw InternalError("state file: tracking lengths must be resolved before saving");
+  w.put(*v);
+}
+template <class E>
+void put_option(Writer& w, E v) {
+  static_assert(std::is_enum_v<E>);
+  w.put(static_cast<std::uint8_t>(v));
+}
+
+void get_option(Reader& r, double& v) { r.get(v); }
+void get_option(Reader& r, int& v) {
+  std::int32_t raw;
+  r.get(raw);
+  v = raw;
+}
+void get_option(Reader& r, std::optional<double>& v) {
+  double raw;
+  r.get(raw);
+  v = raw;
+}
+template <class E>
+void get_option(Reader& r, E& v) {
+  std::uint8_t raw;
+  r.get(raw);
+  if (!enum_from_raw(raw, v)) throw InputError(r.path(), "corrupt state file (settings)");
+}
+
 void put_settings(Writer& w, const TrackerSettings& s) {
-  const TrackingOptions& o = s.method;
-  w.put(o.radius), w.put(o.plane_angle), w.put(o.patch_vertex_angle), w.put(o.max_distortion);
-  w.put(o.uv_scale), w.put(o.max_projection), w.put(static_cast<std::int32_t>(o.fade_frames));
-  w.put(o.thickness), w.put(o.kill_alpha), w.put(o.min_vertex_quality), w.put(o.selection_margin);
-  w.put(static_cast<std::uint8_t>(o.criterion)), w.put(static_cast<std::uint8_t>(o.fading));
-  w.put(static_cast<std::uint8_t>(o.distortion_test));
+  TrackingOptions::for_each_option(s.method, [&](const OptionInfo&, const auto& field) { put_option(w, field); });
   w.put(static_cast<std::uint8_t>(s.advection)), w.put(s.seed), w.put(s.candidates_per_disk);
   w.put(s.min_component_area);
   w.put(static_cast<std::uint8_t>(s.coverage_aware));
@@ -93,27 +121,15 @@ void put_settings(Writer& w, const TrackerSettings& s) {
 }
 
 void get_settings(Reader& r, TrackerSettings& s) {
-  TrackingOptions& o = s.method;
-  std::int32_t fade;
-  std::uint8_t criterion, fading, advection;
-  r.get(o.radius), r.get(o.plane_angle), r.get(o.patch_vertex_angle), r.get(o.max_distortion);
-  r.get(o.uv_scale), r.get(o.max_projection), r.get(fade);
-  r.get(o.thickness), r.get(o.kill_alpha), r.get(o.min_vertex_quality), r.get(o.selection_margin);
-  std::uint8_t test;
-  r.get(criterion), r.get(fading), r.get(test), r.get(advection), r.get(s.seed), r.get(s.candidates_per_disk);
+  TrackingOptions::for_each_option(s.method, [&](const OptionInfo&, auto& field) { get_option(r, field); });
+  get_option(r, s.advection);
+  r.get(s.seed), r.get(s.candidates_per_disk);
   r.get(s.min_component_area);
   std::uint8_t coverage_aware;
   r.get(coverage_aware);
   s.coverage_aware = coverage_aware != 0;
   r.get(s.patch_edge);
-  std::uint8_t motion;
-  r.get(motion);
-  if (!enum_from_raw(criterion, o.criterion) || !enum_from_raw(fading, o.fading) ||
-      !enum_from_raw(test, o.distortion_test) || !enum_from_raw(advection, s.advection) ||
-      !enum_from_raw(motion, s.motion)) {
-    throw InputError(r.path(), "corrupt state file (settings)");
-  }
-  o.fade_frames = fade;
+  get_option(r, s.motion);
 }
 
 }  // namespace

@@ -107,11 +107,15 @@ TEST(Options, DefaultsAndValidation) {
   TrackingOptions o;
   EXPECT_NO_THROW(o.validate());
   const TrackingOptions r = o.resolved(2.0);
-  EXPECT_DOUBLE_EQ(r.radius, 0.1);
-  EXPECT_DOUBLE_EQ(r.max_projection, 0.025);
-  EXPECT_DOUBLE_EQ(r.thickness, 0.025);
+  EXPECT_DOUBLE_EQ(r.d(), 0.1);
+  EXPECT_DOUBLE_EQ(r.mpt(), 0.025);
+  EXPECT_DOUBLE_EQ(r.cs(), 0.025);
+  EXPECT_THROW(o.d(), InternalError);  // not resolved
   o.radius = 0.3;
-  EXPECT_DOUBLE_EQ(o.resolved(2.0).radius, 0.3);
+  EXPECT_DOUBLE_EQ(o.resolved(2.0).d(), 0.3);
+  o.radius = 0.0;
+  EXPECT_THROW(o.validate(), InputError);  // a length is > 0 or left automatic
+  o.radius.reset();
   o.max_distortion = 1.0;
   EXPECT_THROW(o.validate(), InputError);
   o = TrackingOptions{};
@@ -128,7 +132,7 @@ TEST(Options, DefaultsAndValidation) {
 TEST(Options, EveryTable3And4ParameterIsVisited) {
   TrackingOptions o;
   std::vector<std::string> names;
-  visit_options(o, [&](const char* name, auto&, const char*) { names.emplace_back(name); });
+  TrackingOptions::for_each_option(o, [&](const OptionInfo& info, auto&) { names.emplace_back(info.name); });
   for (const char* expected : {"radius", "plane-angle", "patch-vertex-angle", "max-distortion", "uv-scale",
                                "max-projection", "fade-frames", "thickness", "kill-alpha", "min-vertex-quality"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;

@@ -23,10 +23,11 @@ using test::run_fluidtex;
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
 
+/// radius 0: automatic.
 FlowMapSettings settings(int period, double radius) {
   FlowMapSettings s;
   s.flowmap.period = period;
-  s.method.radius = radius;
+  if (radius > 0.0) s.method.radius = radius;
   s.method.selection_margin = 0.6;
   return s;
 }

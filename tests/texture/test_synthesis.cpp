@@ -256,9 +256,9 @@ TEST(Synthesis, RasterAgreesWithExactAndCoversGeneratedScenes) {
     const TexelMap map = build_texel_map(*tracker.surface(), atlas);
     SynthesisOptions opt;
     const TrackingOptions& o = tracker.settings().method;
-    opt.tile_size = 2.6 * o.radius;
-    opt.radius = o.radius;
-    opt.projection_tolerance = o.max_projection;
+    opt.tile_size = o.exemplar_tile_size();
+    opt.radius = o.d();
+    opt.projection_tolerance = o.mpt();
     const SynthesisResult raster = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
     opt.method = SynthesisMethod::Exact;
     const SynthesisResult exact = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);

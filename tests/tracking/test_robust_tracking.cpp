@@ -81,7 +81,7 @@ Survival track_sphere(const RigidMotion& m, PatchMotion motion, DistortionTest t
   }
   Survival s;
   s.births_per_live = births / (frames - 1);
-  const double t = (frames - 1) / fps, d = tracker.settings().method.radius;
+  const double t = (frames - 1) / fps, d = tracker.settings().method.d();
   int kept = 0;
   for (const Patch& p : tracker.patches()) {
     const auto it = first.find(p.id);
@@ -153,7 +153,7 @@ std::optional<RealCut> track_real(const std::string& scene, int frames, TrackerS
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int f = sequence.frames()[i];
     const StepReport r = tracker.step(std::make_shared<const FrameMesh>(sequence.load(i)), f, 1.0 / in.fps);
-    const PatchCoverage coverage(tracker.patches(), tracker.settings().method.max_projection);
+    const PatchCoverage coverage(tracker.patches(), tracker.settings().method.mpt());
     cut.uncovered_max = std::max(cut.uncovered_max, uncovered_area_fraction(*tracker.surface(), coverage));
     if (i == 0) {
       for (const Patch& p : tracker.patches()) first.insert(p.id);
@@ -209,7 +209,7 @@ RetireCause judge(F&& f, DistortionTest test, bool drop_half = false) {
   for (Vec3& x : p->positions) x = f(x);
   if (drop_half) {  // drop the vertices on one side of the centre (lost past mpt)
     std::vector<std::uint8_t> keep(p->positions.size(), 1);
-    for (std::size_t v = 0; v < keep.size(); ++v) keep[v] = p->uvs[v].x() < -0.02 * o.radius;
+    for (std::size_t v = 0; v < keep.size(); ++v) keep[v] = p->uvs[v].x() < -0.02 * o.d();
     remove_vertices(*p, keep, surface);
   }
   return update_distortion(*p, surface, o);

@@ -404,7 +404,7 @@ TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
         if (p.state == DiskState::Active) ASSERT_EQ(p.kt, 1.0);
         if (p.state == DiskState::FadingIn) ASSERT_LT(p.kt, 1.0);
       }
-      const PatchCoverage coverage(t.patches(), t.settings().method.max_projection);
+      const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
       EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage), 1e-3) << "frame " << f;
     }
     if (std::string(scene) == "rotation") {
@@ -482,7 +482,7 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   so.frames = 12;
   Tracker t(TrackerSettings{});
   for (int f = 1; f <= 8; ++f) t.step(std::make_shared<FrameMesh>(make_scene_frame("drop", f, so)), f, 1.0 / so.fps);
-  const double tol = t.settings().method.max_projection;
+  const double tol = t.settings().method.mpt();
   // Every other patch only, so that some points are bare.
   std::vector<char> half(t.patches().size(), 0);
   for (std::size_t i = 0; i < half.size(); i += 2) half[i] = 1;

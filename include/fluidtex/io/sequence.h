@@ -11,6 +11,7 @@
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/geometry/mesh_clean.h"
 #include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/util/options.h"
 
 namespace fluidtex {
 
@@ -23,6 +24,25 @@ struct InputOptions {
   bool velocity_from_positions = false;  ///< derive velocities by central differences
   bool strict = false;                   ///< reject non-manifold frames instead of carrying on
 
+  /// Every field as f(OptionInfo, field) (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    f(OptionInfo{.name = "input",
+                 .help = "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply",
+                 .alias = "-i"},
+      o.pattern);
+    f(OptionInfo{.name = "frames", .help = "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)"}, o.frames);
+    f(OptionInfo{.name = "fps", .help = "Frames per second; the frame step is 1/fps", .bounds = above(0)}, o.fps);
+    f(OptionInfo{.name = "velocity-attr",
+                 .help = "Velocity property names 'a,b,c' or a prefix P (P_x or Px...); default: vx vy vz, "
+                         "velocity_x..., v_x..."},
+      o.velocity_attr);
+    f(OptionInfo{.name = "velocity-from-positions",
+                 .help = "Derive velocities from neighbouring frames by central differences (constant vertex "
+                         "count and order; needed for OBJ input)"},
+      o.velocity_from_positions);
+    f(OptionInfo{.name = "strict", .help = "Reject non-manifold frames instead of carrying on"}, o.strict);
+  }
   void validate() const;
 };
 

@@ -8,6 +8,7 @@
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
+#include "fluidtex/job/job_options.h"
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/flowmap.h"
 #include "fluidtex/texture/synthesis.h"
@@ -16,58 +17,6 @@
 #include "fluidtex/util/report.h"
 
 namespace fluidtex {
-
-struct OutputOptions {
-  std::string dir;            ///< -o: output folder
-  std::string atlas_pattern;  ///< --atlas; empty = DIR/atlas.####.exr
-  std::string mesh_pattern;   ///< --mesh; empty = DIR/mesh.####.obj
-  bool resume = false;        ///< --resume: continue after the last complete frame
-  bool debug_views = false;   ///< --debug-views: patch/disk PLYs per frame
-  bool write_state = true;    ///< OUT/state/patches.####.bin after every frame
-
-  /// The effective patterns (defaults filled in); InputError when a given
-  /// pattern has no frame token or an unsupported extension.
-  std::string atlas() const;
-  std::string mesh() const;
-};
-
-/// How each frame's atlas is made and written (Sec. 6.4).
-struct SynthesisJobOptions {
-  AtlasOptions atlas;
-  Blend blend = Blend::ContrastPreserving;           ///< --blend
-  SynthesisMethod method = SynthesisMethod::Raster;  ///< --synthesis
-  std::vector<std::string> aov;                      ///< --aov: weight, count, patch
-  bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
-  PixelDepth depth = PixelDepth::Default;            ///< --float for 32-bit EXR/TIFF
-  bool track_only = false;                           ///< --track-only: no atlas, no mesh (state and stats only)
-
-  void validate() const;
-};
-
-struct JobOptions {
-  InputOptions input;
-  TexturingMethod method = TexturingMethod::Patches;  ///< --method
-  FlowMapOptions flowmap;                             ///< --flowmap-period, --flowmap-axis (--method flowmap)
-  TrackingOptions tracking;                           ///< patches; flowmap takes d, β (tile size) and s from it
-  SynthesisJobOptions synthesis;
-  Advection advection = Advection::Heun;           ///< --advection
-  PatchMotion patch_motion = PatchMotion::Smooth;  ///< --patch-motion
-  /// Poisson update also seeds where no live patch covers the surface
-  /// (docs/method.md); --no-coverage-check leaves it out (paper's plain test).
-  bool coverage_check = true;
-  OutputOptions output;
-  std::string exemplar;  ///< -e: exemplar image
-  int threads = 0;       ///< 0 = all cores
-  std::uint64_t seed = 1;
-  /// The effective configuration as TOML (what --print-config prints),
-  /// written to OUT/job.toml when the job starts so that `fluidtex eval`
-  /// (and people) can see how the outputs were made; empty = not written.
-  std::string manifest;
-
-  /// InputError for any bad option, and for options the method does not
-  /// have (flowmap: --resume, --track-only, --debug-views).
-  void validate() const;
-};
 
 struct JobSummary {
   std::size_t frames = 0;  ///< frames processed by this run

@@ -20,6 +20,7 @@
 
 #include "fluidtex/geometry/surface.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/util/options.h"
 
 namespace fluidtex {
 
@@ -31,6 +32,15 @@ struct AtlasOptions {
   double max_stretch = 1.5;            ///< charts with a larger mean area stretch are cut smaller
   double min_fill = 0.6;               ///< charts covering less of their bounding box are cut smaller (packing)...
   std::size_t min_fill_faces = 64;     ///< ...unless they have at most this many faces
+
+  /// The fields a user sets, as f(OptionInfo, field) (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    f(OptionInfo{.name = "atlas-size", .help = "Atlas width and height in texels", .bounds = between(16, 32768)},
+      o.size);
+    f(OptionInfo{.name = "gutter", .help = "Texels between charts, filled by dilation", .bounds = between(1, 64)},
+      o.gutter);
+  }
 
   void validate() const;  ///< InputError for a bad value
 };

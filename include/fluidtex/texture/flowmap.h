@@ -61,7 +61,6 @@ inline const char* to_string(TexturingMethod m) { return enum_name(m); }
 inline constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
 constexpr const auto& enum_names(Axis) { return kAxisNames; }
 inline const char* to_string(Axis a) { return enum_name(a); }
-/// Throw InputError for an unknown name.
 
 struct FlowMapOptions {
   int period = 16;  ///< N: frames between two resets of a phase (>= 2)
@@ -69,6 +68,18 @@ struct FlowMapOptions {
   /// this axis. z: the generated scenes are flat in z = 0 or have z up.
   Axis axis = Axis::Z;
 
+  /// Every field as f(OptionInfo, field) (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    f(OptionInfo{.name = "flowmap-period",
+                 .help = "flowmap: frames between two resets of a uv phase; phase B is offset by half of it",
+                 .bounds = at_least(2)},
+      o.period);
+    f(OptionInfo{.name = "flowmap-axis",
+                 .help = "flowmap: rest uv = position projected along this axis (z: the generated scenes' normal "
+                         "/ up axis)"},
+      o.axis);
+  }
   void validate() const;  ///< InputError for a bad value
 };
 

@@ -2,13 +2,16 @@
 /// @brief Parameters of the method (Gagnon et al. 2019, Appendix A, Tables 3
 /// and 4) and of the job, each with its default (docs/method.md, Definitions). These
 /// structs are the single source of truth: the command line, `--help`, the
-/// config file and `--print-config` are generated from `visit_options`.
+/// config file, `--print-config` and the state file's settings are generated
+/// from `for_each_option` (util/options.h).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "fluidtex/util/enum_names.h"
+#include "fluidtex/util/options.h"
 
 namespace fluidtex {
 
@@ -58,53 +61,98 @@ inline constexpr EnumName<DistortionTest> kDistortionTestNames[] = {{DistortionT
 constexpr const auto& enum_names(DistortionTest) { return kDistortionTestNames; }
 inline const char* to_string(DistortionTest t) { return enum_name(t); }
 
-/// Tracking parameters. Lengths in scene units; 0 for radius, thickness and
-/// max_projection means "derive from the first frame" (see resolve()).
+/// Tracking parameters (Tables 3 and 4). Lengths in scene units; the three
+/// lengths left unset are derived from the first frame (resolved()).
 struct TrackingOptions {
-  double radius = 0.0;              ///< d: Poisson disk radius; 0 = 0.05 × first frame's bbox diagonal
-  double plane_angle = 0.5;         ///< pa: "same plane" when N_c·N > pa
-  double patch_vertex_angle = 0.5;  ///< pva: patch triangles need N_T·N > pva
-  double max_distortion = 3.0;      ///< δmax: Sorkine distortion at which Q_T = 0
-  double uv_scale = 1.0;            ///< s: uv scale applied at exemplar lookup
-  double max_projection = 0.0;      ///< mpt: max distance to re-project a vertex; 0 = 0.25 × d
-  int fade_frames = 48;             ///< τ: fading period in frames
-  double thickness = 0.0;           ///< cs: ellipsoid half-thickness along N; 0 = 0.25 × d
-  double kill_alpha = 0.25;         ///< α: kill distance is (1 − α)·d (Table 4)
-  double min_vertex_quality = 0.5;  ///< Q_vmin: a vertex below this distorts its patch (Table 4)
-  double selection_margin = 0.6;    ///< β: patch triangles are taken within (1 + β)·d of the centre
+  std::optional<double> radius;          ///< d: Poisson disk radius; unset = 0.05 × first frame's bbox diagonal
+  double plane_angle = 0.5;              ///< pa: "same plane" when N_c·N > pa
+  double patch_vertex_angle = 0.5;       ///< pva: patch triangles need N_T·N > pva
+  double max_distortion = 3.0;           ///< δmax: Sorkine distortion at which Q_T = 0
+  double uv_scale = 1.0;                 ///< s: uv scale applied at exemplar lookup
+  std::optional<double> max_projection;  ///< mpt: max distance to re-project a vertex; unset = 0.25 × d
+  int fade_frames = 48;                  ///< τ: fading period in frames
+  std::optional<double> thickness;       ///< cs: ellipsoid half-thickness along N; unset = 0.25 × d
+  double kill_alpha = 0.25;              ///< α: kill distance is (1 − α)·d (Table 4)
+  double min_vertex_quality = 0.5;       ///< Q_vmin: a vertex below this distorts its patch (Table 4)
+  double selection_margin = 0.6;         ///< β: patch triangles are taken within (1 + β)·d of the centre
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
+
+  /// Every field as f(OptionInfo, field), in the order of --help, the config
+  /// file and the state file's settings block (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f);
 
   /// Throws InputError naming the option for an out-of-range value.
   void validate() const;
   /// A copy with the automatic lengths filled in from the first frame's
   /// bounding-box diagonal.
   TrackingOptions resolved(double first_frame_diagonal) const;
+  /// The resolved lengths: InternalError when resolved() has not filled them.
+  double d() const { return length(radius, "radius"); }
+  double mpt() const { return length(max_projection, "max-projection"); }
+  double cs() const { return length(thickness, "thickness"); }
   /// Scene units one exemplar tile spans at s = 1: (2 + β)·d, so a patch's
   /// disk shows most of a tile, each patch a different part of it.
-  double exemplar_tile_size() const { return (2.0 + selection_margin) * radius; }
+  double exemplar_tile_size() const { return (2.0 + selection_margin) * d(); }
+
+ private:
+  static double length(const std::optional<double>& v, const char* name);
 };
 
-/// Visits every tracking option as (flag name, field reference, help text),
-/// in the order shown by --help and written by --print-config.
-template <class F>
-void visit_options(TrackingOptions& o, F&& f) {
-  f("radius", o.radius, "d: Poisson disk radius in scene units (0 = 0.05 x first frame's bounding-box diagonal)");
-  f("plane-angle", o.plane_angle, "pa: disks are in the same plane when the dot product of their normals exceeds this");
-  f("patch-vertex-angle", o.patch_vertex_angle,
-    "pva: a patch keeps only triangles whose normal dot the disk normal exceeds this");
-  f("max-distortion", o.max_distortion, "delta_max: Sorkine distortion at which a triangle's quality reaches 0");
-  f("uv-scale", o.uv_scale, "s: scale of the uv coordinates at exemplar lookup (larger = smaller texture features)");
-  f("max-projection", o.max_projection,
-    "mpt: patch vertices farther than this from the new surface are removed (0 = 0.25 x radius)");
-  f("fade-frames", o.fade_frames, "tau: fading period in frames");
-  f("thickness", o.thickness,
-    "cs: ellipsoid half-thickness along the normal, below the smallest detail (0 = 0.25 x radius)");
-  f("kill-alpha", o.kill_alpha, "alpha: disks closer than (1 - alpha) x radius are faded out (Table 4)");
-  f("min-vertex-quality", o.min_vertex_quality, "Q_vmin: a patch with a vertex quality below this fades out (Table 4)");
-  f("selection-margin", o.selection_margin,
-    "beta: patch triangles are selected within (1 + beta) x radius of the disk centre");
+template <class Self, class F>
+void TrackingOptions::for_each_option(Self& o, F&& f) {
+  f(OptionInfo{.name = "radius",
+               .help = "d: Poisson disk radius in scene units (auto: 0.05 x first frame's bounding-box diagonal)",
+               .bounds = above(0)},
+    o.radius);
+  f(OptionInfo{.name = "plane-angle",
+               .help = "pa: disks are in the same plane when the dot product of their normals exceeds this",
+               .bounds = between(-1, 1, false, true)},
+    o.plane_angle);
+  f(OptionInfo{.name = "patch-vertex-angle",
+               .help = "pva: a patch keeps only triangles whose normal dot the disk normal exceeds this",
+               .bounds = between(-1, 1, false, true)},
+    o.patch_vertex_angle);
+  f(OptionInfo{.name = "max-distortion",
+               .help = "delta_max: Sorkine distortion at which a triangle's quality reaches 0",
+               .bounds = above(1)},
+    o.max_distortion);
+  f(OptionInfo{.name = "uv-scale",
+               .help = "s: scale of the uv coordinates at exemplar lookup (larger = smaller texture features)",
+               .bounds = above(0)},
+    o.uv_scale);
+  f(OptionInfo{.name = "max-projection",
+               .help = "mpt: patch vertices farther than this from the new surface are removed (auto: 0.25 x radius)",
+               .bounds = above(0)},
+    o.max_projection);
+  f(OptionInfo{.name = "fade-frames", .help = "tau: fading period in frames", .bounds = at_least(1)}, o.fade_frames);
+  f(OptionInfo{.name = "thickness",
+               .help = "cs: ellipsoid half-thickness along the normal, below the smallest detail (auto: 0.25 x radius)",
+               .bounds = above(0)},
+    o.thickness);
+  f(OptionInfo{.name = "kill-alpha",
+               .help = "alpha: disks closer than (1 - alpha) x radius are faded out (Table 4)",
+               .bounds = between(0, 1, false, true)},
+    o.kill_alpha);
+  f(OptionInfo{.name = "min-vertex-quality",
+               .help = "Q_vmin: a patch with a vertex quality below this fades out (Table 4)",
+               .bounds = between(0, 1)},
+    o.min_vertex_quality);
+  f(OptionInfo{.name = "selection-margin",
+               .help = "beta: patch triangles are selected within (1 + beta) x radius of the disk centre",
+               .bounds = at_least(0)},
+    o.selection_margin);
+  f(OptionInfo{.name = "criterion", .help = "Poisson rejection: ellipsoid (paper), sphere, plane"}, o.criterion);
+  f(OptionInfo{.name = "fading",
+               .help = "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its "
+                       "radius), density (Eq. 6, paper) or linear (Eq. 5)"},
+    o.fading);
+  f(OptionInfo{.name = "distortion-test",
+               .help = "patch: a patch is too distorted when its mean quality over the disk (weighted as K_S) is "
+                       "below Q_vmin; vertex: when any vertex inside the disk is (paper)"},
+    o.distortion_test);
 }
 
 }  // namespace fluidtex

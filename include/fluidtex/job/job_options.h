@@ -1,0 +1,174 @@
+/// @file job_options.h
+/// @brief Everything `fluidtex run` is told, and its one options table:
+/// `JobOptions::for_each_option` lists every option of the job once (name,
+/// help, accepted values, field; util/options.h). The command line, `--help`,
+/// `--print-config`, `--config` and the run's `OUT/job.toml` (written by
+/// run_job, read back by `fluidtex eval`) all come from it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fluidtex/io/sequence.h"
+#include "fluidtex/texture/atlas.h"
+#include "fluidtex/texture/flowmap.h"
+#include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/advection.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/util/options.h"
+
+namespace fluidtex {
+
+struct OutputOptions {
+  std::string dir;            ///< -o: output folder
+  std::string atlas_pattern;  ///< --atlas; empty = DIR/atlas.####.exr
+  std::string mesh_pattern;   ///< --mesh; empty = DIR/mesh.####.obj
+  bool resume = false;        ///< --resume: continue after the last complete frame
+  bool debug_views = false;   ///< --debug-views: patch/disk PLYs per frame
+  bool write_state = true;    ///< OUT/state/patches.####.bin after every frame (not an option)
+
+  /// The effective patterns (defaults filled in); InputError when a given
+  /// pattern has no frame token or an unsupported extension.
+  std::string atlas() const;
+  std::string mesh() const;
+
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    f(OptionInfo{.name = "output", .help = "Output folder (required)", .alias = "-o"}, o.dir);
+    f(OptionInfo{.name = "atlas", .help = "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)"},
+      o.atlas_pattern);
+    f(OptionInfo{.name = "mesh", .help = "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)"},
+      o.mesh_pattern);
+    f(OptionInfo{.name = "resume", .help = "Continue after the last complete frame in OUT"}, o.resume);
+    f(OptionInfo{.name = "debug-views",
+                 .help = "Write per-frame PLYs of the patches and of the disks coloured by state"},
+      o.debug_views);
+  }
+};
+
+/// How each frame's atlas is made and written (Sec. 6.4).
+struct SynthesisJobOptions {
+  AtlasOptions atlas;
+  Blend blend = Blend::ContrastPreserving;           ///< --blend
+  SynthesisMethod method = SynthesisMethod::Raster;  ///< --synthesis
+  std::vector<std::string> aov;                      ///< --aov: weight, count, patch
+  bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
+  bool float_output = false;                         ///< --float: 32-bit EXR/TIFF instead of half / 16-bit
+  bool track_only = false;                           ///< --track-only: no atlas, no mesh (state and stats only)
+
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    AtlasOptions::for_each_option(o.atlas, f);
+    f(OptionInfo{.name = "blend",
+                 .help = "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)"},
+      o.blend);
+    f(OptionInfo{.name = "synthesis",
+                 .help = "raster: patch triangles rasterised in atlas space; exact: per-texel projection "
+                         "(reference, slow)"},
+      o.method);
+    f(OptionInfo{.name = "aov",
+                 .help = "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch",
+                 .choices = "weight, count, patch"},
+      o.aov);
+    f(OptionInfo{.name = "displacement", .help = "Write a one-channel height atlas (the exemplar is turned to grey)"},
+      o.displacement);
+    f(OptionInfo{.name = "float", .help = "32-bit float EXR/TIFF instead of half / 16-bit"}, o.float_output);
+    f(OptionInfo{.name = "track-only", .help = "Track patches only: state files and stats, no atlas or mesh"},
+      o.track_only);
+  }
+  void validate() const;
+};
+
+struct JobOptions {
+  InputOptions input;
+  OutputOptions output;
+  std::string exemplar;  ///< -e: exemplar image
+  int threads = 0;       ///< worker threads; 0 = all cores
+  std::uint64_t seed = 1;
+  TexturingMethod method = TexturingMethod::Patches;  ///< --method
+  FlowMapOptions flowmap;                             ///< --flowmap-period, --flowmap-axis (--method flowmap)
+  TrackingOptions tracking;                           ///< patches; flowmap takes d, β (tile size) and s from it
+  /// Poisson update without the coverage test: a candidate rejected by a disk
+  /// is never seeded, even where no live patch covers the surface (the
+  /// paper's plain dart throwing; docs/method.md).
+  bool no_coverage_check = false;
+  Advection advection = Advection::Heun;           ///< --advection
+  PatchMotion patch_motion = PatchMotion::Smooth;  ///< --patch-motion
+  SynthesisJobOptions synthesis;
+
+  /// Every option of the job, in --help order, each with its --help section
+  /// in OptionInfo::group.
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f);
+
+  /// InputError for any bad option, and for options the method does not
+  /// have (flowmap: --resume, --track-only, --debug-views).
+  void validate() const;
+};
+
+/// The job's options bound to `o`, for the command line and config files.
+std::vector<OptionRef> option_table(JobOptions& o);
+
+/// The configuration as TOML: what --print-config prints, and OUT/job.toml.
+std::string job_toml(const JobOptions& o);
+
+/// Sets the options of `o` (and of `extra`, the caller's own) that the config
+/// file `path` gives, except those `skip(name)` names (the command line's).
+/// Reads the job.toml of runs made by fluidtex 0.1 too (their console
+/// settings and "0 = automatic" lengths). InputError naming the file for a
+/// missing file, a malformed one, an unknown option or a bad value.
+void apply_job_file(JobOptions& o, const std::string& path, const std::function<bool(const std::string&)>& skip,
+                    std::vector<OptionRef> extra = {});
+
+/// The options a config file (`--print-config` output, a run's OUT/job.toml)
+/// gives, over the defaults (apply_job_file).
+JobOptions read_job_file(const std::string& path);
+
+/// The options a finished run was made with, from RUN_DIR/job.toml.
+JobOptions read_job_manifest(const std::string& run_dir);
+
+template <class Self, class F>
+void JobOptions::for_each_option(Self& o, F&& f) {
+  // Sub-structs' options take the section of the place they are listed in.
+  auto in_section = [&f](const char* group) {
+    return [&f, group](OptionInfo info, auto& field) {
+      if (*info.group == '\0') info.group = group;
+      f(info, field);
+    };
+  };
+  InputOptions::for_each_option(o.input, in_section(""));
+  OutputOptions::for_each_option(o.output, in_section(""));
+  f(OptionInfo{.name = "exemplar",
+               .help = "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB and "
+                       "linearised, float files as linear)",
+               .alias = "-e"},
+    o.exemplar);
+  f(OptionInfo{.name = "threads", .help = "Worker threads (0 = all cores)", .bounds = at_least(0)}, o.threads);
+  f(OptionInfo{.name = "seed", .help = "Random seed"}, o.seed);
+  f(OptionInfo{.name = "method",
+               .help = "patches: Gagnon et al. 2019; flowmap: the two-phase advected-UV baseline (same outputs, no "
+                       "state)",
+               .group = "Method"},
+    o.method);
+  FlowMapOptions::for_each_option(o.flowmap, in_section("Method"));
+  const char* const paper = "Method (Tables 3, 4)";
+  TrackingOptions::for_each_option(o.tracking, in_section(paper));
+  f(OptionInfo{.name = "no-coverage-check",
+               .help = "Poisson update without the coverage test: a candidate rejected by a disk is never seeded, "
+                       "even where no patch covers the surface (the paper's plain dart throwing)",
+               .group = paper},
+    o.no_coverage_check);
+  f(OptionInfo{.name = "advection", .help = "Patch advection: heun (second order) or euler (x + v dt)", .group = paper},
+    o.advection);
+  f(OptionInfo{.name = "patch-motion",
+               .help = "smooth: a patch moves by one smooth (cubic) map fitted to its advected vertices, so that "
+                       "velocity and re-meshing noise cannot crush its triangles; vertex: every vertex on its own "
+                       "(paper)",
+               .group = paper},
+    o.patch_motion);
+  SynthesisJobOptions::for_each_option(o.synthesis, in_section("Synthesis"));
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,104 @@
+#include "fluidtex/job/job_options.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
+
+namespace fluidtex {
+
+namespace {
+
+std::string checked_pattern(const std::string& given, const std::string& fallback,
+                            std::initializer_list<const char*> extensions, const char* option) {
+  const std::string pattern = given.empty() ? fallback : given;
+  FramePattern parsed(pattern);  // throws without a frame token
+  const std::string ext = lower_extension(pattern);
+  for (const char* e : extensions) {
+    if (ext == e) return pattern;
+  }
+  std::string known;
+  for (const char* e : extensions) known += std::string(known.empty() ? "" : ", ") + e;
+  throw InputError(pattern, std::string(option) + ": unsupported extension '" + ext + "' (use " + known + ")");
+}
+
+}  // namespace
+
+std::string OutputOptions::atlas() const {
+  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"}, "--atlas");
+}
+
+std::string OutputOptions::mesh() const {
+  return checked_pattern(mesh_pattern, dir + "/mesh.####.obj", {".obj", ".ply"}, "--mesh");
+}
+
+void SynthesisJobOptions::validate() const {
+  atlas.validate();
+  check_options(*this);
+}
+
+void JobOptions::validate() const {
+  input.validate();
+  synthesis.validate();
+  check_options(*this);
+  if (exemplar.empty() && !synthesis.track_only) {
+    throw InputError("", "-e/--exemplar: an exemplar image is required (or --track-only)");
+  }
+  if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
+  (void)output.atlas();
+  (void)output.mesh();
+  if (method == TexturingMethod::FlowMap) {
+    if (output.resume) throw InputError("", "--resume: --method flowmap keeps no state to resume from");
+    if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");
+    if (output.debug_views) throw InputError("", "--debug-views: --method flowmap has no patches or disks to show");
+  }
+}
+
+std::vector<OptionRef> option_table(JobOptions& o) {
+  std::vector<OptionRef> table;
+  JobOptions::for_each_option(o,
+                              [&](const OptionInfo& info, auto& field) { table.push_back(bind_option(info, field)); });
+  return table;
+}
+
+std::string job_toml(const JobOptions& o) {
+  JobOptions copy = o;  // the table binds mutable fields
+  return format_toml(option_table(copy));
+}
+
+void apply_job_file(JobOptions& o, const std::string& path, const std::function<bool(const std::string&)>& skip,
+                    std::vector<OptionRef> extra) {
+  std::vector<ConfigEntry> entries = read_config_file(path);
+  std::vector<OptionRef> table = option_table(o);
+  table.insert(table.end(), extra.begin(), extra.end());
+  const auto known = [&](const std::string& name) {
+    return std::any_of(table.begin(), table.end(), [&](const OptionRef& r) { return name == r.info.name; });
+  };
+  // fluidtex 0.1 wrote its console settings into job.toml, and 0 for an
+  // automatic length.
+  std::erase_if(entries,
+                [&](const ConfigEntry& e) { return (e.name == "verbose" || e.name == "quiet") && !known(e.name); });
+  for (ConfigEntry& e : entries) {
+    const bool length = e.name == "radius" || e.name == "max-projection" || e.name == "thickness";
+    if (length && e.values == std::vector<std::string>{"0"}) e.values = {"auto"};
+  }
+  apply_config(entries, table, path, skip);
+}
+
+JobOptions read_job_file(const std::string& path) {
+  JobOptions o;
+  apply_job_file(o, path, [](const std::string&) { return false; });
+  return o;
+}
+
+JobOptions read_job_manifest(const std::string& run_dir) {
+  const std::string path = run_dir + "/job.toml";
+  if (!std::filesystem::exists(path)) {
+    throw InputError(path, "missing: not the output folder of a fluidtex run (or one made before job.toml existed)");
+  }
+  return read_job_file(path);
+}
+
+}  // namespace fluidtex
