@@ -51,7 +51,7 @@ std::vector<char> chart_mask(const UVMesh& mesh, int size) {
           return ((b - a).x() * (q - a).y() - (q - a).x() * (b - a).y()) / area;
         };
         if (edge(p[0], p[1]) >= -1e-9 && edge(p[1], p[2]) >= -1e-9 && edge(p[2], p[0]) >= -1e-9) {
-          mask[static_cast<std::size_t>(y) * size + x] = 1;
+          mask[texel_index(x, y, size)] = 1;
         }
       }
     }
@@ -101,9 +101,8 @@ std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int 
   double mean = 0.0;
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
-      lum[static_cast<std::size_t>(y) * n + x] =
-          luminance(image, static_cast<std::size_t>(y0 + y) * image.width + (x0 + x));
-      mean += lum[static_cast<std::size_t>(y) * n + x];
+      lum[texel_index(x, y, n)] = luminance(image, static_cast<std::size_t>(y0 + y) * image.width + (x0 + x));
+      mean += lum[texel_index(x, y, n)];
     }
   }
   mean /= static_cast<double>(n) * n;
@@ -113,14 +112,14 @@ std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int 
   std::vector<double> row(n);
   std::vector<std::complex<double>> out(n), col(n);
   for (int y = 0; y < n; ++y) {
-    for (int x = 0; x < n; ++x) row[x] = (lum[static_cast<std::size_t>(y) * n + x] - mean) * window[x] * window[y];
+    for (int x = 0; x < n; ++x) row[x] = (lum[texel_index(x, y, n)] - mean) * window[x] * window[y];
     fft.fwd(out, row);
-    for (int x = 0; x < n; ++x) grid[static_cast<std::size_t>(y) * n + x] = out[x];
+    for (int x = 0; x < n; ++x) grid[texel_index(x, y, n)] = out[x];
   }
   for (int x = 0; x < n; ++x) {
-    for (int y = 0; y < n; ++y) col[y] = grid[static_cast<std::size_t>(y) * n + x];
+    for (int y = 0; y < n; ++y) col[y] = grid[texel_index(x, y, n)];
     fft.fwd(out, col);
-    for (int y = 0; y < n; ++y) grid[static_cast<std::size_t>(y) * n + x] = out[y];
+    for (int y = 0; y < n; ++y) grid[texel_index(x, y, n)] = out[y];
   }
   const int bins = n / 2;
   std::vector<double> power(bins, 0.0);
@@ -130,7 +129,7 @@ std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int 
       const int fx = x <= n / 2 ? x : x - n, fy = y <= n / 2 ? y : y - n;
       const int k = static_cast<int>(std::sqrt(static_cast<double>(fx * fx + fy * fy)));
       if (k < 1 || k >= bins) continue;
-      power[k] += std::norm(grid[static_cast<std::size_t>(y) * n + x]);
+      power[k] += std::norm(grid[texel_index(x, y, n)]);
       ++count[k];
     }
   }
@@ -156,8 +155,7 @@ Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
       exemplar.sample(px_to_u(x0 + (x + 0.5) * scale, w), py_to_v(y0 + (y + 0.5) * scale, h), px);
-      for (int c = 0; c < out.channels; ++c)
-        out.pixels[(static_cast<std::size_t>(y) * n + x) * out.channels + c] = px[c];
+      for (int c = 0; c < out.channels; ++c) out.at(x, y, c) = px[c];
     }
   }
   return out;
@@ -259,7 +257,7 @@ FlowError optical_flow_error(const Image& a, const Image& b, const Image& expect
     cv::Mat out(im.height, im.width, CV_8UC1);
     for (int y = 0; y < im.height; ++y) {
       for (int x = 0; x < im.width; ++x) {
-        const double l = luminance(im, static_cast<std::size_t>(y) * im.width + x);
+        const double l = luminance(im, texel_index(x, y, im.width));
         // sRGB-encoded: the flow sees the contrast a viewer sees.
         const double e = OIIO::linear_to_sRGB(static_cast<float>(std::max(l, 0.0)));
         out.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(e * 255.0 + 0.5, 0.0, 255.0));
@@ -273,7 +271,7 @@ FlowError optical_flow_error(const Image& a, const Image& b, const Image& expect
   FlowError out;
   for (int y = 0; y < a.height; ++y) {
     for (int x = 0; x < a.width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * a.width + x;
+      const std::size_t i = texel_index(x, y, a.width);
       if (!mask[i]) continue;
       const cv::Point2f f = flow.at<cv::Point2f>(y, x);
       const double ex = expected.pixels[2 * i], ey = expected.pixels[2 * i + 1];
@@ -445,7 +443,7 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
       const SurfacePoint s = velocity.closest_point(p);
       if (!s.valid()) continue;
       const Vec2 d = a.camera.image_displacement(p, velocity.velocity_at(s) * dt);
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      const std::size_t i = texel_index(x, y, w);
       expected.pixels[2 * i] = static_cast<float>(d.x());
       expected.pixels[2 * i + 1] = static_cast<float>(d.y());
       mask[i] = 1;

@@ -167,7 +167,7 @@ GBuffer rasterize(const std::vector<Vec3>& positions, const std::vector<Tri>& tr
         } else {
           z = l0 * s[0].z() + l1 * s[1].z() + l2 * s[2].z();
         }
-        const std::size_t i = static_cast<std::size_t>(y) * w + x;
+        const std::size_t i = texel_index(x, y, w);
         if (z >= g.depth[i]) continue;
         g.depth[i] = z;
         g.face[i] = static_cast<int>(f);

@@ -133,7 +133,7 @@ Image make_gravel(int size, std::uint64_t seed) {
       // Warp the border slightly with noise so stones are not polygons.
       const double wobble = 0.12 * (fbm(seed, 10, u, v, 2 * cells, 2) - 0.5);
       const double e = edge + wobble;
-      const std::size_t idx = static_cast<std::size_t>(y) * size + x;
+      const std::size_t idx = texel_index(x, y, size);
       height[idx] = e <= 0.08 ? 0.0 : std::sqrt(smoothstep(0.08, 0.75, e));
       stone[idx] = best;
     }
@@ -142,7 +142,7 @@ Image make_gravel(int size, std::uint64_t seed) {
   const Vec2 light = Vec2(-1.0, -1.0).normalized();
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
-      const std::size_t idx = static_cast<std::size_t>(y) * size + x;
+      const std::size_t idx = texel_index(x, y, size);
       auto H = [&](int a, int b) { return height[static_cast<std::size_t>(wrap(b, size)) * size + wrap(a, size)]; };
       const Vec2 grad(H(x + 1, y) - H(x - 1, y), H(x, y + 1) - H(x, y - 1));
       const double slope_scale = 0.06 * size / cells;

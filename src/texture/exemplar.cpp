@@ -37,7 +37,7 @@ Exemplar Exemplar::load(const std::string& path) {
 }
 
 void Exemplar::sample(double u, double v, float* out) const {
-  const int w = image_.width, h = image_.height, nc = image_.channels;
+  const int w = image_.width, h = image_.height;
   // Texel centres at (i + ½)/w; v up, rows down.
   const double x = u_to_px(u, w) - 0.5;
   const double y = v_to_py(v, h) - 0.5;
@@ -49,10 +49,10 @@ void Exemplar::sample(double u, double v, float* out) const {
   };
   const int x0 = wrap(static_cast<long>(fx), w), x1 = wrap(static_cast<long>(fx) + 1, w);
   const int y0 = wrap(static_cast<long>(fy), h), y1 = wrap(static_cast<long>(fy) + 1, h);
-  const float* p00 = &image_.pixels[(static_cast<std::size_t>(y0) * w + x0) * nc];
-  const float* p10 = &image_.pixels[(static_cast<std::size_t>(y0) * w + x1) * nc];
-  const float* p01 = &image_.pixels[(static_cast<std::size_t>(y1) * w + x0) * nc];
-  const float* p11 = &image_.pixels[(static_cast<std::size_t>(y1) * w + x1) * nc];
+  const float* p00 = image_.pixel(texel_index(x0, y0, w));
+  const float* p10 = image_.pixel(texel_index(x1, y0, w));
+  const float* p01 = image_.pixel(texel_index(x0, y1, w));
+  const float* p11 = image_.pixel(texel_index(x1, y1, w));
   const float a = static_cast<float>((1 - tx) * (1 - ty)), b = static_cast<float>(tx * (1 - ty));
   const float c = static_cast<float>((1 - tx) * ty), d = static_cast<float>(tx * ty);
   for (int k = 0; k < channels_; ++k) out[k] = a * p00[k] + b * p10[k] + c * p01[k] + d * p11[k];

@@ -14,9 +14,7 @@
 
 namespace fluidtex {
 
-void FlowMapOptions::validate() const {
-  check_options(*this);
-}
+void FlowMapOptions::validate() const { check_options(*this); }
 
 std::array<int, 2> phase_ages(int step, int period) {
   const int half = period / 2;
@@ -133,18 +131,7 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
   for (const auto& uv : frame.uv) {
     if (uv.size() != mesh.num_vertices()) throw InternalError("flowmap synthesis: uv sets do not match the mesh");
   }
-  SynthesisResult result;
-  auto layer = [&](Image& im, int channels) {
-    im.width = im.height = n;
-    im.channels = channels;
-    im.pixels.assign(texel_count * channels, 0.0f);
-  };
-  layer(result.color, nc);
-  if (aov) {
-    layer(result.weight, 1);
-    layer(result.count, 1);
-    layer(result.patch, 3);
-  }
+  SynthesisResult result = SynthesisResult::blank(n, nc, aov);
   const double w0 = frame.weight[0], w1 = frame.weight[1];
   const double sum_w = w0 + w1, sum_w2 = w0 * w0 + w1 * w1;
   const int dominant = w0 >= w1 ? 0 : 1;
@@ -159,7 +146,7 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
   tbb::parallel_for(0, n, [&](int y) {
     Tally& t = tally[static_cast<std::size_t>(y)];
     for (int x = 0; x < n; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * n + x;
+      const std::size_t i = texel_index(x, y, n);
       const int f = map.face[i];
       if (f < 0) continue;
       ++t.chart;
@@ -176,11 +163,11 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
         exemplar.sample(u.x(), u.y(), r);
         for (int c = 0; c < nc; ++c) sum[c] += w * static_cast<double>(blend_term(blend, r[c], exemplar.mean()[c]));
       }
-      t.clamped += resolve_blend(blend, sum, sum_w, sum_w2, exemplar.mean(), nc, &result.color.pixels[i * nc]);
+      t.clamped += resolve_blend(blend, sum, sum_w, sum_w2, exemplar.mean(), nc, result.color.pixel(i));
       if (aov) {
         result.weight.pixels[i] = static_cast<float>(sum_w);
         result.count.pixels[i] = static_cast<float>((w0 > 0.0) + (w1 > 0.0));
-        for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = dominant_rgb[c] / 255.0f;
+        for (int c = 0; c < 3; ++c) result.patch.pixel(i)[c] = dominant_rgb[c] / 255.0f;
       }
     }
   });

@@ -152,21 +152,15 @@ TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
     for (int f : atlas.charts[c].faces) {
       const auto& p = atlas.corner_px[f];
       const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
-      const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5))),
-                x1 = std::min(n - 1, static_cast<int>(std::ceil(hi.x() - 0.5)));
-      const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5))),
-                y1 = std::min(n - 1, static_cast<int>(std::ceil(hi.y() - 0.5)));
-      for (int y = y0; y <= y1; ++y) {
-        for (int x = x0; x <= x1; ++x) {
-          Vec3 l;
-          if (!bary2(Vec2(x + 0.5, y + 0.5), p[0], p[1], p[2], l)) continue;
-          if (l.minCoeff() < -1e-9) continue;
-          const std::size_t i = static_cast<std::size_t>(y) * n + x;
-          if (map.face[i] >= 0) continue;
-          map.face[i] = f;
-          map.bary[i] = l.cwiseMax(0.0) / l.cwiseMax(0.0).sum();
-        }
-      }
+      (texel_box(lo, hi) & Rect2i{0, 0, n, n}).for_each([&](int x, int y) {
+        Vec3 l;
+        if (!bary2(Vec2(x + 0.5, y + 0.5), p[0], p[1], p[2], l)) return;
+        if (l.minCoeff() < -1e-9) return;
+        const std::size_t i = texel_index(x, y, n);
+        if (map.face[i] >= 0) return;
+        map.face[i] = f;
+        map.bary[i] = l.cwiseMax(0.0) / l.cwiseMax(0.0).sum();
+      });
     }
   });
   // Group texels by face (counting sort, ascending texel index per face).
@@ -188,15 +182,13 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
   if (w <= 0 || h <= 0 || rings <= 0) return;
   // Only tiles within `rings` texels of a filled texel can change: list the
   // tiles (of at least `rings` texels) next to one holding a filled texel.
-  const int tile = std::max(kTile, rings);
-  const int tw = (w + tile - 1) / tile, th = (h + tile - 1) / tile;
-  std::vector<char> filled(static_cast<std::size_t>(tw) * th, 0);
+  const TileGrid grid{w, h, std::max(kTile, rings)};
+  const int tw = grid.columns(), th = grid.rows();
+  std::vector<char> filled(grid.count(), 0);
   tbb::parallel_for(0, th, [&](int ty) {
-    for (int y = ty * tile; y < std::min(h, (ty + 1) * tile); ++y) {
-      for (int x = 0; x < w; ++x) {
-        if (mask[static_cast<std::size_t>(y) * w + x]) filled[static_cast<std::size_t>(ty) * tw + x / tile] = 1;
-      }
-    }
+    Rect2i{0, ty * grid.tile, w, (ty + 1) * grid.tile}.for_each([&](int x, int y) {
+      if (mask[texel_index(x, y, w)]) filled[grid.index_of(x, y)] = 1;
+    });
   });
   std::vector<int> active;
   for (int ty = 0; ty < th; ++ty) {
@@ -205,7 +197,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
       for (int dy = -1; dy <= 1 && !near; ++dy) {
         for (int dx = -1; dx <= 1 && !near; ++dx) {
           const int x = tx + dx, y = ty + dy;
-          near = x >= 0 && y >= 0 && x < tw && y < th && filled[static_cast<std::size_t>(y) * tw + x];
+          near = x >= 0 && y >= 0 && x < tw && y < th && filled[texel_index(x, y, tw)];
         }
       }
       if (near) active.push_back(ty * tw + tx);
@@ -215,28 +207,25 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
   for (int ring = 0; ring < rings; ++ring) {
     next = mask;
     tbb::parallel_for(std::size_t(0), active.size(), [&](std::size_t a) {
-      const int tx = active[a] % tw, ty = active[a] / tw;
-      for (int y = ty * tile; y < std::min(h, (ty + 1) * tile); ++y) {
-        for (int x = tx * tile; x < std::min(w, (tx + 1) * tile); ++x) {
-          const std::size_t i = static_cast<std::size_t>(y) * w + x;
-          if (mask[i]) continue;
-          float acc[4] = {0, 0, 0, 0};
-          int k = 0;
-          for (int dy = -1; dy <= 1; ++dy) {
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int xx = x + dx, yy = y + dy;
-              if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-              const std::size_t j = static_cast<std::size_t>(yy) * w + xx;
-              if (!mask[j]) continue;
-              for (int c = 0; c < nc; ++c) acc[c] += image.pixels[j * nc + c];
-              ++k;
-            }
+      grid.rect(static_cast<std::size_t>(active[a])).for_each([&](int x, int y) {
+        const std::size_t i = texel_index(x, y, w);
+        if (mask[i]) return;
+        float acc[4] = {0, 0, 0, 0};
+        int k = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+            const std::size_t j = texel_index(xx, yy, w);
+            if (!mask[j]) continue;
+            for (int c = 0; c < nc; ++c) acc[c] += image.pixel(j)[c];
+            ++k;
           }
-          if (k == 0) continue;
-          for (int c = 0; c < nc; ++c) image.pixels[i * nc + c] = acc[c] / static_cast<float>(k);
-          next[i] = 1;
         }
-      }
+        if (k == 0) return;
+        for (int c = 0; c < nc; ++c) image.pixel(i)[c] = acc[c] / static_cast<float>(k);
+        next[i] = 1;
+      });
     });
     mask.swap(next);
   }
@@ -253,11 +242,11 @@ struct Job {
 };
 
 /// Per surface face under a patch triangle of the projected fallback: the
-/// atlas rectangle (inclusive) outside which none of the face's texels can
-/// project into the patch triangle.
+/// atlas texels outside which none of the face's texels can project into the
+/// patch triangle.
 struct Region {
   int face;
-  int x0, y0, x1, y1;
+  Rect2i rect;
 };
 
 /// Every patch triangle binned into the atlas tiles it may touch, each
@@ -271,18 +260,14 @@ struct TriangleBins {
   std::size_t projected = 0;                // triangles sent to the projected fallback
 };
 
-/// One atlas tile's texels [x0, x1) × [y0, y1) and their sums.
+/// One atlas tile's texels and their sums.
 struct TileSums {
-  int x0, y0, x1, y1;
+  Rect2i rect;
   Accumulator acc;
   std::vector<TailOnly> tails;
-  TileSums(int tx0, int ty0, int n, int channels)
-      : x0(tx0), y0(ty0), x1(std::min(n, tx0 + kTile)), y1(std::min(n, ty0 + kTile)),
-        acc(static_cast<std::size_t>(kTile) * kTile, channels) {}
-  /// Tile-local index of atlas texel i (atlas width n).
-  std::size_t local(std::size_t i, int n) const {
-    return static_cast<std::size_t>(static_cast<int>(i / n) - y0) * kTile + (static_cast<int>(i % n) - x0);
-  }
+  TileSums(const Rect2i& r, int channels) : rect(r), acc(static_cast<std::size_t>(kTile) * kTile, channels) {}
+  /// Tile-local index of atlas texel (x, y).
+  std::size_t local(int x, int y) const { return texel_index(x - rect.x0, y - rect.y0, kTile); }
 };
 
 /// The projected fallback's hits of the current patch, per tile-local texel
@@ -328,7 +313,7 @@ class Synthesizer {
   Synthesizer(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map, const std::vector<Patch>& patches,
               const Exemplar& exemplar, const SynthesisOptions& options)
       : surface_(surface), atlas_(atlas), map_(map), patches_(patches), exemplar_(exemplar), options_(options),
-        n_(atlas.size), tiles_((n_ + kTile - 1) / kTile), tolerance_(options.projection_tolerance),
+        n_(atlas.size), tiles_{n_, n_, kTile}, tolerance_(options.projection_tolerance),
         // Texels just outside a patch's boundary edge still take it (the same
         // in-plane slack as the projection): the corners of a polygonal rim
         // between two patch border points would be holes otherwise.
@@ -358,7 +343,8 @@ class Synthesizer {
   const std::vector<Patch>& patches_;
   const Exemplar& exemplar_;
   const SynthesisOptions& options_;
-  const int n_, tiles_;
+  const int n_;
+  const TileGrid tiles_;
   const double tolerance_, slack_px_;
   const int pad_;
   const std::vector<std::vector<float>> core_;
@@ -380,14 +366,11 @@ std::vector<std::vector<float>> Synthesizer::core_weights(const std::vector<Patc
 
 /// Tiles holding at least one chart texel; the others are skipped.
 std::vector<char> Synthesizer::live_tiles() const {
-  std::vector<char> live(static_cast<std::size_t>(tiles_) * tiles_, 0);
-  tbb::parallel_for(0, tiles_, [&](int ty) {
-    for (int y = ty * kTile; y < std::min(n_, (ty + 1) * kTile); ++y) {
-      for (int x = 0; x < n_; ++x) {
-        if (map_.face[static_cast<std::size_t>(y) * n_ + x] >= 0)
-          live[static_cast<std::size_t>(ty) * tiles_ + x / kTile] = 1;
-      }
-    }
+  std::vector<char> live(tiles_.count(), 0);
+  tbb::parallel_for(0, tiles_.rows(), [&](int ty) {
+    Rect2i{0, ty * kTile, n_, (ty + 1) * kTile}.for_each([&](int x, int y) {
+      if (map_.face[texel_index(x, y, n_)] >= 0) live[tiles_.index_of(x, y)] = 1;
+    });
   });
   return live;
 }
@@ -419,13 +402,10 @@ std::vector<char> Synthesizer::chart_border_faces() const {
 /// slack, belongs to `chart` (a triangle crossing the chart's border reaches
 /// the gutter).
 bool Synthesizer::box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const {
-  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad_ - 1);
-  const int x1 = std::min(n_ - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad_ + 1);
-  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad_ - 1);
-  const int y1 = std::min(n_ - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad_ + 1);
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const int f = map_.face[static_cast<std::size_t>(y) * n_ + x];
+  const Rect2i box = texel_box(lo, hi).grown(pad_ + 1) & Rect2i{0, 0, n_, n_};
+  for (int y = box.y0; y < box.y1; ++y) {
+    for (int x = box.x0; x < box.x1; ++x) {
+      const int f = map_.face[texel_index(x, y, n_)];
       if (!(f >= 0 && atlas_.face_chart[f] == chart)) return false;
     }
   }
@@ -458,7 +438,6 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
                       ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance_ : -tolerance_) * tn);
     }
   }
-  const double margin = 1.0;  // texel centres
   std::vector<Region> regions;
   for (int f : surface_.faces_in_box(lo - grow, hi + grow)) {
     if (map_.face_start[f] == map_.face_start[f + 1]) continue;
@@ -483,14 +462,12 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
     const Vec2 flo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
     const Vec2 fhi = corner[0].cwiseMax(corner[1]).cwiseMax(corner[2]);
     rlo = rlo.cwiseMax(flo), rhi = rhi.cwiseMin(fhi);
-    const Region r{f, std::max(0, static_cast<int>(std::floor(rlo.x() - 0.5 - margin))),
-                   std::max(0, static_cast<int>(std::floor(rlo.y() - 0.5 - margin))),
-                   std::min(n_ - 1, static_cast<int>(std::ceil(rhi.x() - 0.5 + margin))),
-                   std::min(n_ - 1, static_cast<int>(std::ceil(rhi.y() - 0.5 + margin)))};
-    if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+    const Region r{f, texel_box(rlo, rhi).grown(1) & Rect2i{0, 0, n_, n_}};  // a texel's margin
+    if (r.rect.empty()) continue;
     regions.push_back(r);
-    for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
-      for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) touched.push_back(ty * tiles_ + tx);
+    for (int ty = r.rect.y0 / kTile; ty <= (r.rect.y1 - 1) / kTile; ++ty) {
+      for (int tx = r.rect.x0 / kTile; tx <= (r.rect.x1 - 1) / kTile; ++tx)
+        touched.push_back(ty * tiles_.columns() + tx);
     }
   }
   return regions;
@@ -502,7 +479,7 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
 /// whatever the thread count.
 TriangleBins Synthesizer::bin_triangles() const {
   TriangleBins bins;
-  bins.jobs.resize(static_cast<std::size_t>(tiles_) * tiles_);
+  bins.jobs.resize(tiles_.count());
   bins.tri_px_base.assign(patches_.size() + 1, 0);
   for (std::size_t p = 0; p < patches_.size(); ++p)
     bins.tri_px_base[p + 1] = bins.tri_px_base[p] + patches_[p].triangles.size();
@@ -522,11 +499,13 @@ TriangleBins Synthesizer::bin_triangles() const {
     std::copy(rim_bits.begin(), rim_bits.end(),
               bins.tri_rim.begin() + static_cast<std::ptrdiff_t>(bins.tri_px_base[p]));
     if (!(patch.kt > 0.0)) return;
-    auto place_box = [&](const Job& job, int x0, int y0, int x1, int y1) {
-      x0 = std::max(0, x0 / kTile), y0 = std::max(0, y0 / kTile);
-      x1 = std::min(tiles_ - 1, x1 / kTile), y1 = std::min(tiles_ - 1, y1 / kTile);
-      for (int ty = y0; ty <= y1; ++ty) {
-        for (int tx = x0; tx <= x1; ++tx) out.placed.emplace_back(ty * tiles_ + tx, job);
+    // The tiles a raster job's texels (raster_job) fall in.
+    auto place_box = [&](const Job& job, const Vec2& lo, const Vec2& hi) {
+      const Rect2i box = texel_box(lo, hi).grown(pad_) & Rect2i{0, 0, n_, n_};
+      if (box.empty()) return;
+      for (int ty = box.y0 / kTile; ty <= (box.y1 - 1) / kTile; ++ty) {
+        for (int tx = box.x0 / kTile; tx <= (box.x1 - 1) / kTile; ++tx)
+          out.placed.emplace_back(ty * tiles_.columns() + tx, job);
       }
     };
     for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
@@ -553,9 +532,7 @@ TriangleBins Synthesizer::bin_triangles() const {
       // chart when its atlas box does.
       if (one_chart && near_border) one_chart = box_in_chart(lo, hi, c0);
       if (one_chart) {
-        place_box({static_cast<int>(p), static_cast<int>(t), -1}, static_cast<int>(std::floor(lo.x() - 0.5)) - pad_,
-                  static_cast<int>(std::floor(lo.y() - 0.5)) - pad_, static_cast<int>(std::ceil(hi.x())) + pad_,
-                  static_cast<int>(std::ceil(hi.y())) + pad_);
+        place_box({static_cast<int>(p), static_cast<int>(t), -1}, lo, hi);
         continue;
       }
       ++out.projected;
@@ -585,18 +562,16 @@ TriangleBins Synthesizer::bin_triangles() const {
 /// through the patch triangles near it.
 void Synthesizer::accumulate_located(TileSums& tile) const {
   std::vector<PatchHit> hits;
-  for (int y = tile.y0; y < tile.y1; ++y) {
-    for (int x = tile.x0; x < tile.x1; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
-      if (map_.face[i] < 0) continue;
-      const SurfacePoint s = surface_.at(map_.face[i], map_.bary[i]);
-      locator_->locate(s.position, surface_.normal_at(s), hits);
-      for (const PatchHit& h : hits) {
-        const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
-        contribute_.add(tile.acc, tile.tails, tile.local(i, n_), h.patch, h.uv, w, c);
-      }
+  tile.rect.for_each([&](int x, int y) {
+    const std::size_t i = texel_index(x, y, n_);
+    if (map_.face[i] < 0) return;
+    const SurfacePoint s = surface_.at(map_.face[i], map_.bary[i]);
+    locator_->locate(s.position, surface_.normal_at(s), hits);
+    for (const PatchHit& h : hits) {
+      const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
+      contribute_.add(tile.acc, tile.tails, tile.local(x, y), h.patch, h.uv, w, c);
     }
-  }
+  });
 }
 
 /// Raster (SynthesisMethod::Raster): the tile's binned jobs in order. A
@@ -628,13 +603,10 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
   const int chart = atlas_.face_chart[patch.projections[tri[0]].face];
   const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
   const std::uint8_t rim = bins_.tri_rim[bins_.tri_px_base[job.patch] + job.tri];
-  const int x0 = std::max(tile.x0, static_cast<int>(std::floor(lo.x() - 0.5)) - pad_);
-  const int x1 = std::min(tile.x1 - 1, static_cast<int>(std::ceil(hi.x() - 0.5)) + pad_);
-  const int y0 = std::max(tile.y0, static_cast<int>(std::floor(lo.y() - 0.5)) - pad_);
-  const int y1 = std::min(tile.y1 - 1, static_cast<int>(std::ceil(hi.y() - 0.5)) + pad_);
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+  const Rect2i box = texel_box(lo, hi).grown(pad_) & tile.rect;
+  for (int y = box.y0; y < box.y1; ++y) {
+    for (int x = box.x0; x < box.x1; ++x) {
+      const std::size_t i = texel_index(x, y, n_);
       if (map_.face[i] < 0 || atlas_.face_chart[map_.face[i]] != chart) continue;
       Vec3 l;
       const Vec2 centre(x + 0.5, y + 0.5);
@@ -653,7 +625,7 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
       }
       const Vec2 uv = interpolate(patch.uvs, tri, l);
       const auto [w, c] = contribute_.weights(job.patch, tri, l);
-      contribute_.add(tile.acc, tile.tails, tile.local(i, n_), job.patch, uv, w, c);
+      contribute_.add(tile.acc, tile.tails, tile.local(x, y), job.patch, uv, w, c);
     }
   }
 }
@@ -664,11 +636,12 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile, ProjectedHits& p
   const Patch& patch = patches_[job.patch];
   const Tri& tri = patch.triangles[job.tri];
   for (const Region& r : bins_.region_lists[job.regions]) {
-    for (int y = std::max(r.y0, tile.y0); y <= std::min(r.y1, tile.y1 - 1); ++y) {
-      for (int x = std::max(r.x0, tile.x0); x <= std::min(r.x1, tile.x1 - 1); ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+    const Rect2i box = r.rect & tile.rect;
+    for (int y = box.y0; y < box.y1; ++y) {
+      for (int x = box.x0; x < box.x1; ++x) {
+        const std::size_t i = texel_index(x, y, n_);
         if (map_.face[i] != r.face) continue;
-        const std::size_t j = tile.local(i, n_);
+        const std::size_t j = tile.local(x, y);
         if (!projected.point_ready[j]) {
           const SurfacePoint s = surface_.at(r.face, map_.bary[i]);
           projected.point[j] = s.position, projected.normal[j] = surface_.normal_at(s), projected.point_ready[j] = 1;
@@ -695,11 +668,11 @@ void Synthesizer::resolve_tile(const TileSums& tile, SynthesisResult& result, st
   const int nc = exemplar_.channels();
   const Accumulator& acc = tile.acc;
   std::vector<double> sum(nc);
-  for (int y = tile.y0; y < tile.y1; ++y) {
-    for (int x = tile.x0; x < tile.x1; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * n_ + x;
+  for (int y = tile.rect.y0; y < tile.rect.y1; ++y) {
+    for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
+      const std::size_t i = texel_index(x, y, n_);
       if (map_.face[i] < 0) continue;
-      const std::size_t j = tile.local(i, n_);
+      const std::size_t j = tile.local(x, y);
       ++tally.chart;
       mask[i] = 1;
       const double lambda = contribute_.tail_share(acc, j);
@@ -711,25 +684,25 @@ void Synthesizer::resolve_tile(const TileSums& tile, SynthesisResult& result, st
         result.count.pixels[i] = static_cast<float>(acc.count[j] + (lambda > 0.0 ? acc.tail_count[j] : 0));
         if (acc.best_patch[j] >= 0) {
           const auto rgb = id_color(patches_[acc.best_patch[j]].id);
-          for (int c = 0; c < 3; ++c) result.patch.pixels[i * 3 + c] = rgb[c] / 255.0f;
+          for (int c = 0; c < 3; ++c) result.patch.pixel(i)[c] = rgb[c] / 255.0f;
         }
       }
       if (!(sum_w > 0.0)) {
         ++tally.bare;
-        for (int c = 0; c < nc; ++c) result.color.pixels[i * nc + c] = exemplar_.mean()[c];
+        for (int c = 0; c < nc; ++c) result.color.pixel(i)[c] = exemplar_.mean()[c];
         continue;
       }
       tally.clamped +=
-          resolve_blend(options_.blend, sum.data(), sum_w, sum_w2, exemplar_.mean(), nc, &result.color.pixels[i * nc]);
+          resolve_blend(options_.blend, sum.data(), sum_w, sum_w2, exemplar_.mean(), nc, result.color.pixel(i));
     }
   }
 }
 
 SynthesisResult Synthesizer::run() {
-  SynthesisResult result;
-  const std::size_t texel_count = static_cast<std::size_t>(n_) * n_;
-  const std::size_t tile_count = static_cast<std::size_t>(tiles_) * tiles_;
   const int nc = exemplar_.channels();
+  SynthesisResult result = SynthesisResult::blank(n_, nc, options_.aov);
+  const std::size_t texel_count = static_cast<std::size_t>(n_) * n_;
+  const std::size_t tile_count = tiles_.count();
   const std::vector<char> tile_live = live_tiles();
   if (options_.method == SynthesisMethod::Exact) {
     locator_ = std::make_unique<PatchLocator>(patches_, tolerance_);
@@ -737,24 +710,13 @@ SynthesisResult Synthesizer::run() {
     bins_ = bin_triangles();
     result.projected_triangles = bins_.projected;
   }
-  auto layer = [&](Image& im, int channels) {
-    im.width = im.height = n_;
-    im.channels = channels;
-    im.pixels.assign(texel_count * channels, 0.0f);
-  };
-  layer(result.color, nc);
-  if (options_.aov) {
-    layer(result.weight, 1);
-    layer(result.count, 1);
-    layer(result.patch, 3);
-  }
   // Per tile, in parallel: accumulate into tile-local sums (each texel's
   // contributions in patch order), then resolve.
   std::vector<char> mask(texel_count, 0);
   std::vector<Tally> tally(tile_count);
   tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t index) {
     if (!tile_live[index]) return;
-    TileSums tile(static_cast<int>(index % tiles_) * kTile, static_cast<int>(index / tiles_) * kTile, n_, nc);
+    TileSums tile(tiles_.rect(index), nc);
     if (locator_)
       accumulate_located(tile);
     else

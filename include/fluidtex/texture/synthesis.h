@@ -72,6 +72,14 @@ struct SynthesisResult {
   double uncovered_fraction() const {
     return chart_texels ? static_cast<double>(uncovered_texels) / static_cast<double>(chart_texels) : 0.0;
   }
+  /// Zeroed images of an n × n atlas: colour with `channels`, and the AOV
+  /// layers when `aov`.
+  static SynthesisResult blank(int n, int channels, bool aov) {
+    SynthesisResult r;
+    r.color = Image::blank(n, n, channels);
+    if (aov) r.weight = Image::blank(n, n, 1), r.count = Image::blank(n, n, 1), r.patch = Image::blank(n, n, 3);
+    return r;
+  }
 };
 
 /// Which surface face (and where in it) each atlas texel centre shows.
