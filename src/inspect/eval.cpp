@@ -30,6 +30,7 @@
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/check.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
 
@@ -139,7 +140,8 @@ std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int 
 }
 
 double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size() || a.empty()) throw InternalError("spectrum_distance: spectra of different sizes");
+  FLUIDTEX_CHECK_EQ(a.size(), b.size());
+  FLUIDTEX_CHECK(!a.empty());
   double sum = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) sum += (a[k] - b[k]) * (a[k] - b[k]);
   return std::sqrt(sum / static_cast<double>(a.size()));
@@ -249,10 +251,10 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
 }
 
 FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask) {
-  if (a.width != b.width || a.height != b.height || expected.width != a.width || expected.height != a.height ||
-      expected.channels != 2 || mask.size() != static_cast<std::size_t>(a.width) * a.height) {
-    throw InternalError("optical_flow_error: images of different sizes");
-  }
+  FLUIDTEX_CHECK(a.width == b.width && a.height == b.height);
+  FLUIDTEX_CHECK(expected.width == a.width && expected.height == a.height);
+  FLUIDTEX_CHECK_EQ(expected.channels, 2);
+  FLUIDTEX_CHECK_EQ(mask.size(), texel_index(0, a.height, a.width));
   auto grey8 = [](const Image& im) {
     cv::Mat out(im.height, im.width, CV_8UC1);
     for (int y = 0; y < im.height; ++y) {

@@ -9,6 +9,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/check.h"
 #include "fluidtex/util/random.h"
 #include "fluidtex/util/timing.h"
 
@@ -129,7 +130,7 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
   const int nc = exemplar.channels();
   const FrameMesh& mesh = surface.mesh();
   for (const auto& uv : frame.uv) {
-    if (uv.size() != mesh.num_vertices()) throw InternalError("flowmap synthesis: uv sets do not match the mesh");
+    FLUIDTEX_CHECK_EQ(uv.size(), mesh.num_vertices());
   }
   SynthesisResult result = SynthesisResult::blank(n, nc, aov);
   const double w0 = frame.weight[0], w1 = frame.weight[1];

@@ -10,6 +10,7 @@
 
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/util/check.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
 
@@ -267,7 +268,10 @@ struct TileSums {
   std::vector<TailOnly> tails;
   TileSums(const Rect2i& r, int channels) : rect(r), acc(static_cast<std::size_t>(kTile) * kTile, channels) {}
   /// Tile-local index of atlas texel (x, y).
-  std::size_t local(int x, int y) const { return texel_index(x - rect.x0, y - rect.y0, kTile); }
+  std::size_t local(int x, int y) const {
+    FLUIDTEX_DCHECK(x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1);
+    return texel_index(x - rect.x0, y - rect.y0, kTile);
+  }
 };
 
 /// The projected fallback's hits of the current patch, per tile-local texel
@@ -738,8 +742,8 @@ SynthesisResult Synthesizer::run() {
 SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
                            const std::vector<Patch>& patches, const Exemplar& exemplar,
                            const SynthesisOptions& options) {
-  if (!(options.tile_size > 0.0)) throw InternalError("synthesis: tile size must be > 0");
-  if (!(options.radius > 0.0)) throw InternalError("synthesis: disk radius must be > 0");
+  FLUIDTEX_CHECK_GT(options.tile_size, 0.0);
+  FLUIDTEX_CHECK_GT(options.radius, 0.0);
   return Synthesizer(surface, atlas, map, patches, exemplar, options).run();
 }
 

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "fluidtex/geometry/mesh.h"
+#include "fluidtex/util/check.h"
 
 namespace fluidtex {
 
@@ -97,8 +98,14 @@ struct Image {
     return {width, height, channels, std::vector<float>(texel_index(0, height, width) * channels, 0.0f)};
   }
   /// The channels of pixel i = texel_index(x, y, width).
-  float* pixel(std::size_t i) { return &pixels[i * channels]; }
-  const float* pixel(std::size_t i) const { return &pixels[i * channels]; }
+  float* pixel(std::size_t i) {
+    FLUIDTEX_DCHECK_LT(i * channels, pixels.size());
+    return &pixels[i * channels];
+  }
+  const float* pixel(std::size_t i) const {
+    FLUIDTEX_DCHECK_LT(i * channels, pixels.size());
+    return &pixels[i * channels];
+  }
   float& at(int x, int y, int c) { return pixel(texel_index(x, y, width))[c]; }
   float at(int x, int y, int c) const { return pixel(texel_index(x, y, width))[c]; }
   bool empty() const { return pixels.empty(); }
