@@ -99,6 +99,77 @@ std::string CleanReport::summary() const {
   return s.str();
 }
 
+namespace {
+
+/// Step 2: triangles remapped to representatives, without repeated-index and
+/// zero-area ones. The area threshold is relative to the scene size so it is
+/// unit-independent.
+std::vector<Tri> remap_triangles(const FrameMesh& mesh, const std::vector<int>& rep, double min_area,
+                                 CleanReport& report) {
+  std::vector<Tri> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const Tri& t0 : mesh.triangles) {
+    const Tri t = {rep[t0[0]], rep[t0[1]], rep[t0[2]]};
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      ++report.degenerate_faces;
+      continue;
+    }
+    const double area = triangle_area(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    if (!(area > min_area)) {
+      ++report.degenerate_faces;
+      continue;
+    }
+    kept.push_back(t);
+  }
+  return kept;
+}
+
+/// Step 3: duplicates (same vertex set, any orientation) dropped; the first kept.
+void drop_duplicate_faces(std::vector<Tri>& kept, CleanReport& report) {
+  std::vector<std::pair<Tri, std::size_t>> keyed(kept.size());
+  for (std::size_t f = 0; f < kept.size(); ++f) {
+    Tri k = kept[f];
+    std::sort(k.begin(), k.end());
+    keyed[f] = {k, f};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<char> drop(kept.size(), 0);
+  for (std::size_t i = 1; i < keyed.size(); ++i) {
+    if (keyed[i].first == keyed[i - 1].first) drop[keyed[i].second] = 1;
+  }
+  std::size_t out = 0;
+  for (std::size_t f = 0; f < kept.size(); ++f) {
+    if (drop[f])
+      ++report.duplicate_faces;
+    else
+      kept[out++] = kept[f];
+  }
+  kept.resize(out);
+}
+
+/// Step 5: boundary and non-manifold edges counted (reported, not repaired).
+void count_edges(const FrameMesh& mesh, CleanReport& report) {
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  for (const Tri& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::uint64_t>(std::min(t[k], t[(k + 1) % 3]));
+      const auto b = static_cast<std::uint64_t>(std::max(t[k], t[(k + 1) % 3]));
+      edges.push_back((a << 32) | b);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) ++report.boundary_edges;
+    if (j - i > 2) ++report.nonmanifold_edges;
+    i = j;
+  }
+}
+
+}  // namespace
+
 CleanReport clean_mesh(FrameMesh& mesh, const CleanOptions& options) {
   CleanReport report;
   const std::size_t nv = mesh.positions.size();
@@ -114,50 +185,9 @@ CleanReport clean_mesh(FrameMesh& mesh, const CleanOptions& options) {
     vel_sum[rep[i]] += mesh.velocities[i];
     if (rep[i] != static_cast<int>(i)) ++report.merged_vertices;
   }
-
-  // 2. Remap triangles; drop repeated-index and zero-area ones. The area
-  // threshold is relative to the scene size so it is unit-independent.
-  const double min_area = options.degenerate_area * diag * diag;
-  std::vector<Tri> kept;
-  kept.reserve(mesh.triangles.size());
-  for (const Tri& t0 : mesh.triangles) {
-    const Tri t = {rep[t0[0]], rep[t0[1]], rep[t0[2]]};
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
-      ++report.degenerate_faces;
-      continue;
-    }
-    const Vec3& a = mesh.positions[t[0]];
-    const double area = triangle_area(a, mesh.positions[t[1]], mesh.positions[t[2]]);
-    if (!(area > min_area)) {
-      ++report.degenerate_faces;
-      continue;
-    }
-    kept.push_back(t);
-  }
-
-  // 3. Drop duplicates (same vertex set, any orientation); keep the first.
-  {
-    std::vector<std::pair<Tri, std::size_t>> keyed(kept.size());
-    for (std::size_t f = 0; f < kept.size(); ++f) {
-      Tri k = kept[f];
-      std::sort(k.begin(), k.end());
-      keyed[f] = {k, f};
-    }
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<char> drop(kept.size(), 0);
-    for (std::size_t i = 1; i < keyed.size(); ++i) {
-      if (keyed[i].first == keyed[i - 1].first) drop[keyed[i].second] = 1;
-    }
-    std::size_t out = 0;
-    for (std::size_t f = 0; f < kept.size(); ++f) {
-      if (drop[f]) {
-        ++report.duplicate_faces;
-      } else {
-        kept[out++] = kept[f];
-      }
-    }
-    kept.resize(out);
-  }
+  // 2–3. Degenerate and duplicate faces.
+  std::vector<Tri> kept = remap_triangles(mesh, rep, options.degenerate_area * diag * diag, report);
+  drop_duplicate_faces(kept, report);
 
   // 4. Compact: keep referenced representatives in their original order.
   std::vector<char> used(nv, 0);
@@ -180,23 +210,7 @@ CleanReport clean_mesh(FrameMesh& mesh, const CleanOptions& options) {
   mesh = std::move(out);
 
   // 5. Report (not repair) edge manifoldness and components.
-  std::vector<std::uint64_t> edges;
-  edges.reserve(3 * mesh.triangles.size());
-  for (const Tri& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<std::uint64_t>(std::min(t[k], t[(k + 1) % 3]));
-      const auto b = static_cast<std::uint64_t>(std::max(t[k], t[(k + 1) % 3]));
-      edges.push_back((a << 32) | b);
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) ++report.boundary_edges;
-    if (j - i > 2) ++report.nonmanifold_edges;
-    i = j;
-  }
+  count_edges(mesh, report);
   std::vector<int> component_of_face;
   report.components = face_components(mesh, component_of_face);
   return report;

@@ -45,6 +45,46 @@ constexpr double kPi = std::numbers::pi;
 // ---------------------------------------------------------------------------
 using Implicit2D = std::function<double(const Vec2&)>;
 
+/// Where F crosses zero between pa (F = fa) and pb (F = fb), as t in [0, 1]:
+/// Illinois regula falsi on the exact function, six steps; `guess` when the
+/// ends do not bracket a zero.
+double zero_crossing(const Implicit2D& F, const Vec2& pa, const Vec2& pb, double fa, double fb, double guess) {
+  if ((fa < 0.0) == (fb < 0.0)) return guess;
+  double t = guess, t0 = 0.0, t1 = 1.0;
+  int side = 0;
+  for (int iter = 0; iter < 6; ++iter) {
+    t = (t0 * fb - t1 * fa) / (fb - fa);
+    const double ft = F(pa + t * (pb - pa));
+    if ((ft < 0.0) == (fa < 0.0)) {
+      t0 = t, fa = ft;
+      if (side == -1) fb *= 0.5;
+      side = -1;
+    } else {
+      t1 = t, fb = ft;
+      if (side == 1) fa *= 0.5;
+      side = 1;
+    }
+  }
+  return t;
+}
+
+/// The clipped piece of a grid triangle (3 or 4 vertices, counter-clockwise)
+/// as triangles: a quad split along its shorter diagonal.
+void add_polygon(FrameMesh& mesh, const int* poly, int count) {
+  if (count == 3) {
+    mesh.triangles.push_back({poly[0], poly[1], poly[2]});
+  } else if (count == 4) {
+    const auto& P = mesh.positions;
+    if ((P[poly[0]] - P[poly[2]]).squaredNorm() <= (P[poly[1]] - P[poly[3]]).squaredNorm()) {
+      mesh.triangles.push_back({poly[0], poly[1], poly[2]});
+      mesh.triangles.push_back({poly[0], poly[2], poly[3]});
+    } else {
+      mesh.triangles.push_back({poly[0], poly[1], poly[3]});
+      mesh.triangles.push_back({poly[1], poly[2], poly[3]});
+    }
+  }
+}
+
 FrameMesh mesh_implicit_2d(const Implicit2D& F, const Vec2& lo, const Vec2& hi, double h) {
   // Even cell counts keep the grid (and its diagonal pattern) mirror
   // symmetric about the box centre.
@@ -83,27 +123,8 @@ FrameMesh mesh_implicit_2d(const Implicit2D& F, const Vec2& lo, const Vec2& hi, 
     auto it = edge_vertex.find(key);
     if (it != edge_vertex.end()) return it->second;
     const Vec2 pa = node_pos(a), pb = node_pos(b);
-    double t = value[a] / (value[a] - value[b]);
-    double fa = exact[a], fb = exact[b];
-    if ((fa < 0.0) != (fb < 0.0)) {
-      // Illinois regula falsi on the exact function, bracket [0, 1].
-      double t0 = 0.0, t1 = 1.0;
-      int side = 0;
-      for (int iter = 0; iter < 6; ++iter) {
-        t = (t0 * fb - t1 * fa) / (fb - fa);
-        const double ft = F(pa + t * (pb - pa));
-        if ((ft < 0.0) == (fa < 0.0)) {
-          t0 = t, fa = ft;
-          if (side == -1) fb *= 0.5;
-          side = -1;
-        } else {
-          t1 = t, fb = ft;
-          if (side == 1) fa *= 0.5;
-          side = 1;
-        }
-      }
-    }
-    t = std::clamp(t, 0.06, 0.94);
+    const double t =
+        std::clamp(zero_crossing(F, pa, pb, exact[a], exact[b], value[a] / (value[a] - value[b])), 0.06, 0.94);
     const int v = add_vertex(pa + t * (pb - pa));
     edge_vertex.emplace(key, v);
     return v;
@@ -119,19 +140,7 @@ FrameMesh mesh_implicit_2d(const Implicit2D& F, const Vec2& lo, const Vec2& hi, 
       if (pin) poly[count++] = vertex_at_node(p);
       if (pin != qin) poly[count++] = vertex_on_edge(p, q);
     }
-    if (count == 3) {
-      mesh.triangles.push_back({poly[0], poly[1], poly[2]});
-    } else if (count == 4) {
-      // Split the (convex, counter-clockwise) quad along its shorter diagonal.
-      const auto& P = mesh.positions;
-      if ((P[poly[0]] - P[poly[2]]).squaredNorm() <= (P[poly[1]] - P[poly[3]]).squaredNorm()) {
-        mesh.triangles.push_back({poly[0], poly[1], poly[2]});
-        mesh.triangles.push_back({poly[0], poly[2], poly[3]});
-      } else {
-        mesh.triangles.push_back({poly[0], poly[1], poly[3]});
-        mesh.triangles.push_back({poly[1], poly[2], poly[3]});
-      }
-    }
+    add_polygon(mesh, poly, count);
   };
 
   for (int j = 0; j < ny; ++j) {

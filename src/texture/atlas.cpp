@@ -236,44 +236,56 @@ bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, i
 
 }  // namespace
 
-Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
-  options.validate();
+namespace {
+
+/// Charts that flattened well: faces, flat corners and area stretch each.
+struct FlatCharts {
+  std::vector<std::vector<int>> faces;
+  std::vector<FlatChart> flat;
+  std::vector<double> stretch;
+  int failed = 0;  ///< charts cut smaller because LSCM failed or distorted them
+};
+
+/// Disk-like charts grown from every unassigned face of `pending` (lowest
+/// first) over faces within the normal cone of the seed, nearest first.
+std::vector<std::vector<int>> grow_charts(const SurfaceIndex& surface, const std::vector<int>& pending,
+                                          std::vector<char>& assigned, std::size_t max_faces,
+                                          const AtlasOptions& options) {
+  const FrameMesh& mesh = surface.mesh();
+  auto centroid = [&](int f) {
+    const Tri& t = mesh.triangles[f];
+    return Vec3((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0);
+  };
+  std::vector<std::vector<int>> charts;
+  for (int seed : pending) {
+    if (assigned[seed]) continue;
+    const Vec3 n0 = surface.face_normals()[seed];
+    const Vec3 c0 = centroid(seed);
+    DiskRegionOptions region;
+    region.accept = [&](int f) { return !assigned[f] && surface.face_normals()[f].dot(n0) > options.normal_cone; };
+    region.priority = [&](int f) { return (centroid(f) - c0).squaredNorm(); };
+    region.max_faces = max_faces;
+    std::vector<int> faces = grow_disk_region(surface, seed, region);
+    for (int f : faces) assigned[f] = 1;
+    charts.push_back(std::move(faces));
+  }
+  return charts;
+}
+
+/// Steps 1–2: segment into disk-like charts bounded by a normal cone,
+/// flatten each (in parallel, each into its own slot), and segment again,
+/// smaller, the faces of charts LSCM could not flatten or flattened with too
+/// much area distortion; single faces are always flat.
+FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& options) {
   const FrameMesh& mesh = surface.mesh();
   const std::size_t nf = mesh.triangles.size();
-  Atlas atlas;
-  atlas.size = options.size;
-  atlas.face_chart.assign(nf, -1);
-  atlas.corner_px.assign(nf, {});
-
-  // 1–2. Segment into disk-like charts bounded by a normal cone, flatten
-  // each (in parallel, each into its own slot), and segment again, smaller,
-  // the faces of charts LSCM could not flatten or flattened with too much
-  // area distortion; single faces are always flat.
-  std::vector<std::vector<int>> final_faces;
-  std::vector<FlatChart> final_flat;
-  std::vector<double> final_stretch;
+  FlatCharts out;
   std::vector<int> pending(nf);
   std::iota(pending.begin(), pending.end(), 0);
   std::size_t max_faces = options.max_chart_faces;
   std::vector<char> assigned(nf, 0);
   while (!pending.empty()) {
-    std::vector<std::vector<int>> chart_faces;
-    for (int seed : pending) {
-      if (assigned[seed]) continue;
-      const Vec3 n0 = surface.face_normals()[seed];
-      const Tri& st = mesh.triangles[seed];
-      const Vec3 c0 = (mesh.positions[st[0]] + mesh.positions[st[1]] + mesh.positions[st[2]]) / 3.0;
-      DiskRegionOptions region;
-      region.accept = [&](int f) { return !assigned[f] && surface.face_normals()[f].dot(n0) > options.normal_cone; };
-      region.priority = [&](int f) {
-        const Tri& t = mesh.triangles[f];
-        return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c0).squaredNorm();
-      };
-      region.max_faces = max_faces;
-      std::vector<int> faces = grow_disk_region(surface, seed, region);
-      for (int f : faces) assigned[f] = 1;
-      chart_faces.push_back(std::move(faces));
-    }
+    std::vector<std::vector<int>> chart_faces = grow_charts(surface, pending, assigned, max_faces, options);
     std::vector<FlatChart> flat(chart_faces.size());
     std::vector<double> stretch(chart_faces.size(), 1.0);
     std::vector<char> ok(chart_faces.size(), 1);
@@ -287,12 +299,12 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     pending.clear();
     for (std::size_t c = 0; c < chart_faces.size(); ++c) {
       if (ok[c]) {
-        final_faces.push_back(std::move(chart_faces[c]));
-        final_flat.push_back(std::move(flat[c]));
-        final_stretch.push_back(stretch[c]);
+        out.faces.push_back(std::move(chart_faces[c]));
+        out.flat.push_back(std::move(flat[c]));
+        out.stretch.push_back(stretch[c]);
         continue;
       }
-      ++atlas.failed_charts;
+      ++out.failed;
       for (int f : chart_faces[c]) {
         assigned[f] = 0;
         pending.push_back(f);
@@ -301,47 +313,67 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     std::sort(pending.begin(), pending.end());
     max_faces = std::max<std::size_t>(1, max_faces / 4);
   }
+  return out;
+}
 
-  // 3. Common density: the largest (bisection) at which the charts pack.
+/// Step 3: the largest common density (texels per scene unit, by bisection)
+/// at which the charts pack into the atlas, and their placements there.
+double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& flat, const AtlasOptions& options,
+                    std::vector<Placement>& placement) {
   double area3 = 0.0;
   for (double a : surface.face_areas()) area3 += a;
   const int n = options.size;
-  std::vector<Placement> placement;
   double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
   for (int iter = 0; iter < 14; ++iter) {  // density to 1/16000 of the 100% bound
     const double mid = 0.5 * (lo + hi);
-    if (pack_shapes(final_flat, mid, n, options.gutter, placement))
+    if (pack_shapes(flat, mid, n, options.gutter, placement))
       lo = mid;
     else
       hi = mid;
   }
-  if (!(lo > 0.0) || !pack_shapes(final_flat, lo, n, options.gutter, placement)) {
-    throw InternalError("atlas: " + std::to_string(final_flat.size()) + " charts do not fit in " + std::to_string(n) +
+  if (!(lo > 0.0) || !pack_shapes(flat, lo, n, options.gutter, placement)) {
+    throw InternalError("atlas: " + std::to_string(flat.size()) + " charts do not fit in " + std::to_string(n) +
                         "² texels; raise --atlas-size");
   }
-  atlas.texels_per_unit = lo;
+  return lo;
+}
+
+}  // namespace
+
+Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
+  options.validate();
+  const std::size_t nf = surface.mesh().triangles.size();
+  Atlas atlas;
+  atlas.size = options.size;
+  atlas.face_chart.assign(nf, -1);
+  atlas.corner_px.assign(nf, {});
+  FlatCharts charts = segment_and_flatten(surface, options);
+  atlas.failed_charts = charts.failed;
+  std::vector<Placement> placement;
+  const double density = pack_density(surface, charts.flat, options, placement);
+  atlas.texels_per_unit = density;
 
   // 4. Corner positions in texels.
-  atlas.charts.resize(final_faces.size());
+  atlas.charts.resize(charts.faces.size());
   double chart_area_px = 0.0;
-  for (std::size_t c = 0; c < final_faces.size(); ++c) {
+  for (std::size_t c = 0; c < charts.faces.size(); ++c) {
     Chart& chart = atlas.charts[c];
-    chart.faces = std::move(final_faces[c]);
+    chart.faces = std::move(charts.faces[c]);
     chart.origin = placement[c].origin;
     chart.extent = placement[c].extent;
-    chart.stretch = final_stretch[c];
-    const FlatChart& fc = final_flat[c];
+    chart.stretch = charts.stretch[c];
+    const FlatChart& fc = charts.flat[c];
     const Vec2 offset = placement[c].origin.cast<double>() + Vec2::Constant(options.gutter + 0.5);
-    auto place = [&](const Vec2& p) { return Vec2(turn(fc, placement[c].rotation, p) * lo + offset); };
+    auto place = [&](const Vec2& p) { return Vec2(turn(fc, placement[c].rotation, p) * density + offset); };
     for (std::size_t i = 0; i < chart.faces.size(); ++i) {
       const int f = chart.faces[i];
       atlas.face_chart[f] = static_cast<int>(c);
       for (int k = 0; k < 3; ++k) atlas.corner_px[f][k] = place(fc.corners[i][k]);
       chart.area3 += surface.face_areas()[f];
     }
-    chart_area_px += chart.area3 * lo * lo;
+    chart_area_px += chart.area3 * density * density;
   }
-  atlas.packing_efficiency = chart_area_px / (static_cast<double>(n) * n);
+  atlas.packing_efficiency = chart_area_px / (static_cast<double>(options.size) * options.size);
   return atlas;
 }
 

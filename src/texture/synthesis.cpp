@@ -333,6 +333,8 @@ class Synthesizer {
   std::vector<char> live_tiles() const;
   std::vector<char> chart_border_faces() const;
   bool box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const;
+  bool in_one_chart(const Patch& patch, const Tri& tri, const std::vector<char>& chart_border,
+                    std::array<Vec2, 3>& px) const;
   std::vector<Region> projected_regions(const Patch& patch, const Tri& tri, std::vector<int>& touched) const;
   TriangleBins bin_triangles() const;
   void accumulate_located(TileSums& tile) const;
@@ -416,6 +418,27 @@ bool Synthesizer::box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const 
   return true;
 }
 
+/// Whether patch triangle `tri` can be rasterised in one chart: its corners
+/// (their atlas positions written to `px`) lie in one chart, and next to
+/// another chart, its atlas box does too.
+bool Synthesizer::in_one_chart(const Patch& patch, const Tri& tri, const std::vector<char>& chart_border,
+                               std::array<Vec2, 3>& px) const {
+  const int c0 = atlas_.face_chart[patch.projections[tri[0]].face];
+  bool near_border = false;
+  for (int k = 0; k < 3; ++k) {
+    const int f = patch.projections[tri[k]].face;
+    if (atlas_.face_chart[f] != c0) return false;
+    near_border = near_border || chart_border[f];
+  }
+  for (int k = 0; k < 3; ++k) {
+    const SurfacePoint& s = patch.projections[tri[k]];
+    const auto& corner = atlas_.corner_px[s.face];
+    px[k] = interpolate(s.bary, corner[0], corner[1], corner[2]);
+  }
+  const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+  return !near_border || box_in_chart(lo, hi, c0);
+}
+
 /// The regions of the projected fallback of patch triangle `tri`, and the
 /// tiles they touch (appended to `touched`, unsorted).
 std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri& tri,
@@ -469,10 +492,7 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
     const Region r{f, texel_box(rlo, rhi).grown(1) & Rect2i{0, 0, n_, n_}};  // a texel's margin
     if (r.rect.empty()) continue;
     regions.push_back(r);
-    for (int ty = r.rect.y0 / kTile; ty <= (r.rect.y1 - 1) / kTile; ++ty) {
-      for (int tx = r.rect.x0 / kTile; tx <= (r.rect.x1 - 1) / kTile; ++tx)
-        touched.push_back(ty * tiles_.columns() + tx);
-    }
+    tiles_.for_each_tile(r.rect, [&](std::size_t tile) { touched.push_back(static_cast<int>(tile)); });
   }
   return regions;
 }
@@ -503,40 +523,16 @@ TriangleBins Synthesizer::bin_triangles() const {
     std::copy(rim_bits.begin(), rim_bits.end(),
               bins.tri_rim.begin() + static_cast<std::ptrdiff_t>(bins.tri_px_base[p]));
     if (!(patch.kt > 0.0)) return;
-    // The tiles a raster job's texels (raster_job) fall in.
-    auto place_box = [&](const Job& job, const Vec2& lo, const Vec2& hi) {
-      const Rect2i box = texel_box(lo, hi).grown(pad_) & Rect2i{0, 0, n_, n_};
-      if (box.empty()) return;
-      for (int ty = box.y0 / kTile; ty <= (box.y1 - 1) / kTile; ++ty) {
-        for (int tx = box.x0 / kTile; tx <= (box.x1 - 1) / kTile; ++tx)
-          out.placed.emplace_back(ty * tiles_.columns() + tx, job);
-      }
-    };
     for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
       const Tri& tri = patch.triangles[t];
       if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
-      const int c0 = atlas_.face_chart[patch.projections[tri[0]].face];
-      bool one_chart = true, near_border = false;
-      for (int k = 0; k < 3; ++k) {
-        const int f = patch.projections[tri[k]].face;
-        one_chart = one_chart && atlas_.face_chart[f] == c0;
-        near_border = near_border || chart_border[f];
-      }
       auto& px = bins.tri_px[bins.tri_px_base[p] + t];
-      Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
-      if (one_chart) {
-        for (int k = 0; k < 3; ++k) {
-          const SurfacePoint& s = patch.projections[tri[k]];
-          const auto& corner = atlas_.corner_px[s.face];
-          px[k] = interpolate(s.bary, corner[0], corner[1], corner[2]);
-        }
-        lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-      }
-      // Corners in one chart next to another: the triangle stays in its
-      // chart when its atlas box does.
-      if (one_chart && near_border) one_chart = box_in_chart(lo, hi, c0);
-      if (one_chart) {
-        place_box({static_cast<int>(p), static_cast<int>(t), -1}, lo, hi);
+      if (in_one_chart(patch, tri, chart_border, px)) {
+        // The tiles its texels (raster_job) fall in.
+        const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
+        const Job job{static_cast<int>(p), static_cast<int>(t), -1};
+        tiles_.for_each_tile(texel_box(lo, hi).grown(pad_),
+                             [&](std::size_t tile) { out.placed.emplace_back(static_cast<int>(tile), job); });
         continue;
       }
       ++out.projected;

@@ -85,6 +85,15 @@ struct TileGrid {
   }
   /// The tile holding texel (x, y).
   std::size_t index_of(int x, int y) const { return static_cast<std::size_t>(y / tile) * columns() + x / tile; }
+  /// f(index) for every tile `box` (clipped to the grid) touches, row by row.
+  template <class F>
+  void for_each_tile(const Rect2i& box, F&& f) const {
+    const Rect2i b = box & Rect2i{0, 0, width, height};
+    if (b.empty()) return;
+    for (int ty = b.y0 / tile; ty <= (b.y1 - 1) / tile; ++ty) {
+      for (int tx = b.x0 / tile; tx <= (b.x1 - 1) / tile; ++tx) f(static_cast<std::size_t>(ty) * columns() + tx);
+    }
+  }
 };
 
 struct Image {
