@@ -203,7 +203,7 @@ CleanReport clean_mesh(FrameMesh& mesh, const CleanOptions& options) {
     }
     new_index[i] = static_cast<int>(out.positions.size());
     out.positions.push_back(mesh.positions[i]);
-    out.velocities.push_back(vel_sum[i] / static_cast<double>(members[i]));
+    out.velocities.emplace_back(vel_sum[i] / static_cast<double>(members[i]));
   }
   out.triangles.reserve(kept.size());
   for (const Tri& t : kept) out.triangles.push_back({new_index[t[0]], new_index[t[1]], new_index[t[2]]});

@@ -13,7 +13,7 @@ namespace {
 
 std::string checked_pattern(const std::string& given, const std::string& fallback,
                             std::initializer_list<const char*> extensions, const char* option) {
-  const std::string pattern = given.empty() ? fallback : given;
+  std::string pattern = given.empty() ? fallback : given;
   FramePattern parsed(pattern);  // throws without a frame token
   const std::string ext = lower_extension(pattern);
   for (const char* e : extensions) {

@@ -407,7 +407,7 @@ void write_frame_ply(const std::string& path, const FrameMesh& mesh) {
 std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options) {
   validate(scene, options);
   const std::filesystem::path folder(dir.empty() ? "." : dir);
-  const std::string pattern = (folder / (scene + ".####.ply")).string();
+  std::string pattern = (folder / (scene + ".####.ply")).string();
   auto frame_path = [&](int frame) {
     char number[32];
     std::snprintf(number, sizeof(number), "%04d", frame);

@@ -461,7 +461,7 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
   std::vector<Vec3> prism;
   for (int k = 0; k < 3; ++k) {
     for (int corner = 0; corner < 8; ++corner) {
-      prism.push_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
+      prism.emplace_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
                       ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance_ : -tolerance_) * tn);
     }
   }

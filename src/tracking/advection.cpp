@@ -12,7 +12,7 @@ namespace fluidtex {
 Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                    Advection scheme) {
   const Vec3 v0 = previous.velocity_at(from);
-  const Vec3 guess = from.position + v0 * dt;
+  Vec3 guess = from.position + v0 * dt;
   if (scheme != Advection::Heun) return guess;
   const SurfacePoint at = next.closest_point(guess);
   if (!at.valid()) return guess;

@@ -113,7 +113,7 @@ void PatchLocator::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& h
       Vec3 bary;
       double dist2;
       if (!project_to_patch_triangle((*patches_)[pi], (*patches_)[pi].triangles[ti], p, n, h, bary, dist2)) continue;
-      auto slot = std::find_if(best.begin(), best.end(), [&](const Best& x) { return x.patch == pi; });
+      auto slot = std::find_if(best.begin(), best.end(), [p = pi](const Best& x) { return x.patch == p; });
       if (slot == best.end())
         best.push_back({pi, ti, dist2, bary});
       else if (dist2 < slot->dist2 || (dist2 == slot->dist2 && ti < slot->tri))

@@ -107,6 +107,7 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<char>* uncovered) {
   const PointIndex old_index([&] {
     std::vector<Vec3> centres;
+    centres.reserve(existing.size());
     for (const SurfaceSample& d : existing) centres.push_back(d.point.position);
     return centres;
   }());

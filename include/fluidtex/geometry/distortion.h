@@ -31,7 +31,7 @@ struct Stretch {
 
 /// Singular values of the map rest → current. A degenerate rest or current
 /// triangle gives gamma_min = 0 (infinite distortion).
-Stretch triangle_stretch(const RestTriangle& rest, const Vec3& q0, const Vec3& q1, const Vec3& q2);
+Stretch triangle_stretch(const RestTriangle& r, const Vec3& q1, const Vec3& q2, const Vec3& q3);
 
 /// D_T = max(γ_max, 1/γ_min) ≥ 1; +infinity when degenerate.
 double triangle_distortion(const RestTriangle& rest, const Vec3& q0, const Vec3& q1, const Vec3& q2);

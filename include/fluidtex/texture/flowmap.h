@@ -150,7 +150,7 @@ class FlowMapAdvector {
 
 /// Synthesises the atlas from the two phases (colour, and with `aov`: Σw = 1,
 /// the number of phases with w > 0, and the dominant phase as a colour).
-SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& texels,
+SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
                                    const FlowMapFrame& frame, const Exemplar& exemplar, Blend blend, bool aov = false);
 
 }  // namespace fluidtex

@@ -109,7 +109,7 @@ bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, 
 TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas);
 
 /// Synthesises the atlas from `patches` (their weights must be current).
-SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& texels,
+SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
                            const std::vector<Patch>& patches, const Exemplar& exemplar,
                            const SynthesisOptions& options);
 
