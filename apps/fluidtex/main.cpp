@@ -16,15 +16,17 @@ int main(int argc, char** argv) {
       "fluidtex: temporally coherent texture synthesis on the free surface of fluids\n"
       "(deformable patches, Gagnon et al. 2019)",
       "fluidtex"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "fluidtex 0.1.0");
   int exit_code = 0;
-  fluidtex::cli::add_subcommands(app, exit_code);
   try {
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "fluidtex 0.1.0");
+    fluidtex::cli::add_subcommands(app, exit_code);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line, like every other error (CLI11 would add "Run with --help ...").
+    std::fprintf(stderr, "fluidtex: error: %s (see --help)\n", e.what());
+    return 2;
   } catch (const fluidtex::InputError& e) {
     std::fprintf(stderr, "fluidtex: error: %s\n", e.what());
     return 2;

@@ -387,6 +387,7 @@ std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, in
   }
   if (static_cast<int>(all.size()) <= limit) return all;
   std::vector<std::pair<int, int>> out;
+  out.reserve(static_cast<std::size_t>(limit));
   for (int k = 0; k < limit; ++k) out.push_back(all[static_cast<std::size_t>(k) * all.size() / limit]);
   return out;
 }
@@ -696,7 +697,7 @@ TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string
     throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
   if (!std::filesystem::exists(mesh_path))
     throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
-  return TexturedFrame(read_uv_mesh_obj(mesh_path), read_image(atlas_path));
+  return TexturedFrame(read_uv_mesh_obj(mesh_path), read_image(atlas_path, kMaxAtlasPixels));
 }
 
 }  // namespace

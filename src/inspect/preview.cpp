@@ -65,7 +65,7 @@ PreviewSummary run_preview(const PreviewOptions& options) {
   std::vector<std::string> labels;
   for (std::size_t j = 0; j < frames.size(); ++j) {
     const int f = frames[j];
-    RenderResult r = render(read_uv_mesh_obj(meshes.path(f)), read_image(atlases.path(f)), options.render);
+    RenderResult r = render(read_uv_mesh_obj(meshes.path(f)), read_image(atlases.path(f), kMaxAtlasPixels), options.render);
     if (sequence) draw_overlays(options, *sequence, f, r);
     if (!options.sheet_only) write_image(out.path(f), r.color);
     if (options.sheet > 0 && j % static_cast<std::size_t>(options.sheet) == 0) {

@@ -18,6 +18,19 @@ struct Token {
   int width = 1;
 };
 
+/// The digit count a "%0Nd" or "$FN" token asks for (1 when none): at most
+/// kMaxFrameWidth, since a frame number is an int.
+int token_width(const std::string& pattern, const std::string& digits) {
+  if (digits.empty()) return 1;
+  int width = 0;
+  const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), width);
+  if (r.ec != std::errc() || width > kMaxFrameWidth) {
+    throw InputError(pattern, "frame number width " + digits + " is too large (at most " +
+                                  std::to_string(kMaxFrameWidth) + " digits)");
+  }
+  return std::max(1, width);
+}
+
 // Finds every frame token: a run of '#', printf "%d"/"%0Nd"/"%Nd", Houdini "$F"/"$FN".
 std::vector<Token> find_tokens(const std::string& s) {
   std::vector<Token> tokens;
@@ -31,8 +44,7 @@ std::vector<Token> find_tokens(const std::string& s) {
       std::size_t j = i + 1;
       while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
       if (j < s.size() && s[j] == 'd') {
-        int width = 1;
-        if (j > i + 1) width = std::max(1, std::stoi(s.substr(i + 1, j - i - 1)));
+        const int width = token_width(s, s.substr(i + 1, j - i - 1));
         tokens.push_back({i, j + 1 - i, width});
         i = j + 1;
       } else {
@@ -41,8 +53,7 @@ std::vector<Token> find_tokens(const std::string& s) {
     } else if (s[i] == '$' && i + 1 < s.size() && s[i + 1] == 'F') {
       std::size_t j = i + 2;
       while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-      int width = 1;
-      if (j > i + 2) width = std::max(1, std::stoi(s.substr(i + 2, j - i - 2)));
+      const int width = token_width(s, s.substr(i + 2, j - i - 2));
       tokens.push_back({i, j - i, width});
       i = j;
     } else {
@@ -120,7 +131,9 @@ std::vector<int> FramePattern::discover() const {
     int value = 0;
     auto [ptr, perr] = std::from_chars(middle.data(), middle.data() + middle.size(), value);
     if (perr != std::errc() || ptr != middle.data() + middle.size()) continue;
-    if (!entry.is_regular_file(ec)) continue;
+    // Not only regular files: a folder, FIFO or dangling link named like a
+    // frame is a frame that cannot be read (an error when it is loaded), not
+    // a gap that would make dt span two frames.
     frames.insert(negative ? -value : value);
   }
   return {frames.begin(), frames.end()};
@@ -147,6 +160,10 @@ std::vector<int> parse_frame_range(const std::string& text) {
     const int first = parse_int(span.substr(0, dash), text);
     const int last = dash == std::string::npos ? first : parse_int(span.substr(dash + 1), text);
     if (last < first) throw InputError("", "frame range '" + text + "' ends before it starts");
+    const long long count = (static_cast<long long>(last) - first) / step + 1;
+    if (count + static_cast<long long>(frames.size()) > kMaxFrames) {
+      throw InputError("", "frame range '" + text + "' has more than " + std::to_string(kMaxFrames) + " frames");
+    }
     for (long f = first; f <= last; f += step) frames.insert(static_cast<int>(f));
     start = comma + 1;
   }

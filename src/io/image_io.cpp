@@ -16,11 +16,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <string_view>
 
 #include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
+#include <unistd.h>
 
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
@@ -185,11 +188,80 @@ void sample_bilinear(const Image& image, double x, double y, float* out, int cha
   }
 }
 
-Image read_image(const std::string& path) {
+namespace {
+
+/// libpng prints its errors on stderr itself (OpenImageIO's PNG reader does
+/// not route them), which would make a second line next to fluidtex's. While
+/// a PNG is read, file descriptor 2 goes to a temporary file; what was
+/// printed is returned by text(). Process-wide, so captures are serialised.
+class StderrCapture {
+ public:
+  StderrCapture() : lock_(mutex()) {
+    std::fflush(stderr);
+    file_ = std::tmpfile();
+    saved_ = file_ ? ::dup(STDERR_FILENO) : -1;
+    if (saved_ >= 0) ::dup2(::fileno(file_), STDERR_FILENO);
+  }
+  ~StderrCapture() { restore(); }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+
+  /// Restores stderr; the captured text, on one line.
+  std::string text() {
+    restore();
+    return captured_;
+  }
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  void restore() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+    saved_ = -1;
+    std::rewind(file_);
+    char buf[512];
+    std::size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, file_)) > 0 && captured_.size() < 4096) captured_.append(buf, n);
+    std::fclose(file_);
+    file_ = nullptr;
+    captured_ = one_line(captured_);
+  }
+  std::unique_lock<std::mutex> lock_;
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+  std::string captured_;
+};
+
+Image read_image_file(const std::string& path, long long max_pixels);
+
+}  // namespace
+
+Image read_image(const std::string& path, long long max_pixels) {
+  try {
+    require_regular_file(path, "the file");
+  } catch (const InputError& e) {
+    throw InputError(path, "cannot read image: " + e.problem());
+  }
+  if (lower_extension(path) != ".png") return read_image_file(path, max_pixels);
+  StderrCapture capture;
+  try {
+    return read_image_file(path, max_pixels);
+  } catch (const InputError& e) {
+    const std::string printed = capture.text();
+    if (printed.empty() || e.problem().find(printed) != std::string::npos) throw;
+    throw InputError(path, e.problem() + " (" + printed + ")");
+  }
+}
+
+namespace {
+
+Image read_image_file(const std::string& path, long long max_pixels) {
   auto fail = [&](const std::string& reason) { return InputError(path, "cannot read image: " + reason); };
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw fail("no such file");
-  if (fs::is_directory(path, ec)) throw fail("is a folder");
 
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -204,6 +276,12 @@ Image read_image(const std::string& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw fail("empty image");
   if (spec.depth > 1) throw fail("volume images are not supported");
 
+  const double pixels = static_cast<double>(spec.width) * spec.height;
+  if (pixels > static_cast<double>(max_pixels) || spec.nchannels > kMaxImageChannels) {
+    throw fail(std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels, " +
+               std::to_string(spec.nchannels) + " channels: more than fluidtex reads (at most " +
+               std::to_string(max_pixels) + " pixels and " + std::to_string(kMaxImageChannels) + " channels)");
+  }
   Image image;
   image.width = spec.width;
   image.height = spec.height;
@@ -232,6 +310,8 @@ Image read_image(const std::string& path) {
   });
   return image;
 }
+
+}  // namespace
 
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
   const Format format = format_of(path);

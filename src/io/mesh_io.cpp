@@ -14,8 +14,11 @@
 //    keywords. We rename positions and velocities to custom properties (which
 //    it reads at their declared precision), map each list count type to the
 //    supported type of the same size, and drop comments.
-//  - Binary bodies are measured before parsing (OpenMesh would happily loop
-//    over a garbage list count), ASCII bodies are checked via the stream state.
+//  - Bodies are checked before parsing, up to the end of the faces, and
+//    OpenMesh is given no more: binary bodies are measured (OpenMesh would
+//    happily loop over a garbage list count), ASCII bodies are tokenised line
+//    by line and every value checked against its type (OpenMesh's ASCII loop
+//    checks only eof(), so a bad token or a short line would shift the data).
 //  - PLYReader is a singleton with mutable per-file state and omerr is
 //    process-wide, so the OpenMesh call is serialised and silenced.
 
@@ -35,7 +38,9 @@
 
 #include <Eigen/Geometry>
 
+#include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/options.h"
 #include "fluidtex/util/strings.h"
 #include "openmesh_reader.h"
 #include "ply_header.h"
@@ -225,6 +230,10 @@ std::vector<Tri> triangles_from(const std::string& path, const FrameImporter& im
       ++short_faces;
       continue;
     }
+    if (n > kMaxPolygonCorners) {
+      throw InputError(path, "face " + std::to_string(f) + " has " + std::to_string(n) + " corners (at most " +
+                                 std::to_string(kMaxPolygonCorners) + "; triangulate the mesh when exporting it)");
+    }
     triangulate(pos, im.face_index_.data() + begin, n, tris);
   }
   return tris;
@@ -248,7 +257,7 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
 
   FrameImporter im;
   std::string canonical = canonical_ply_header(header, layout);
-  canonical.append(bytes, header.body_offset);
+  canonical.append(bytes, header.body_offset, layout.body_end - header.body_offset);
   std::istringstream in(std::move(canonical));
   const bool ok = run_openmesh_reader([&] {
     OM::IO::Options opt = OM::IO::Options::Custom;
@@ -304,12 +313,20 @@ FrameMesh read_obj(const std::string& path, const std::string& bytes, const Read
 
 }  // namespace
 
+CleanReport clean_frame(const std::string& path, FrameMesh& mesh, const CleanOptions& options) {
+  const double diagonal = bounding_box(mesh).diagonal();
+  CleanReport cleaned = clean_mesh(mesh, options);
+  if (mesh.triangles.empty()) {
+    // Tolerances scale with the bounding box: one stray vertex far away
+    // makes every real triangle "degenerate".
+    throw InputError(path, "empty mesh: every face is degenerate at the scale of the bounding box (diagonal " +
+                               option_detail::format_number(diagonal) + "; a vertex far from the others?)");
+  }
+  return cleaned;
+}
+
 FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanReport* report) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (!fs::exists(st)) throw InputError(path, "file is missing (no such file)");
-  if (fs::is_directory(st)) throw InputError(path, "is a directory, not a mesh file");
+  require_regular_file(path, "mesh file");
 
   const std::string ext = lower_extension(path);
   if (ext != ".ply" && ext != ".obj")
@@ -325,8 +342,7 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
 
   CleanReport cleaned;
   if (options.clean) {
-    cleaned = clean_mesh(mesh, options.clean_options);
-    if (mesh.triangles.empty()) throw InputError(path, "empty mesh (no faces left after cleaning)");
+    cleaned = clean_frame(path, mesh, options.clean_options);
   }
   cleaned.degenerate_faces += short_faces;  // polygons with < 3 corners never became triangles
   if (report) *report = cleaned;

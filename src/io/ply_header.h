@@ -5,12 +5,15 @@
 // false), so every check whose failure the user must understand is done here.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fluidtex/util/error.h"
@@ -53,6 +56,7 @@ struct PlyLayout {
   bool has_velocity = false;
   std::array<int, 3> velocity_prop{-1, -1, -1};
   std::array<PlyType, 3> velocity_type{};
+  std::size_t body_end = 0;  ///< first byte after the faces: OpenMesh reads no further
 };
 
 inline const char* type_name(PlyType t) {
@@ -96,7 +100,11 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
     std::size_t eol = bytes.find('\n', pos);
     const std::size_t next = eol == std::string::npos ? bytes.size() : eol + 1;
     if (eol == std::string::npos) eol = bytes.size();
-    std::istringstream line(bytes.substr(pos, eol - pos));
+    const std::string text = bytes.substr(pos, eol - pos);
+    if (text.find('\0') != std::string::npos)
+      throw InputError(path, "malformed PLY header line " + std::to_string(line_no) +
+                                 ": binary data before end_header (is the end_header line missing?)");
+    std::istringstream line(text);
     pos = next;
     std::vector<std::string> tok;
     for (std::string t; line >> t;) tok.push_back(t);
@@ -118,8 +126,10 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
       have_format = true;
     } else if (tok[0] == "element") {
       unsigned long long count = 0;
-      if (tok.size() != 3 || std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count).ec != std::errc())
-        throw bad("expected 'element <name> <count>'");
+      const auto parsed = tok.size() == 3 ? std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count)
+                                          : std::from_chars_result{nullptr, std::errc::invalid_argument};
+      if (parsed.ec != std::errc() || parsed.ptr != tok[2].data() + tok[2].size())
+        throw bad("expected 'element <name> <count>' with a decimal count");
       if (count > 0x7fffffffull) throw bad("element count " + tok[2] + " is too large");
       h.elements.push_back({tok[1], static_cast<std::size_t>(count), {}});
     } else if (tok[0] == "property") {
@@ -158,18 +168,19 @@ inline long long read_count(const std::string& bytes, std::size_t at, PlyType t,
 }
 
 /// Walks a binary body up to the end of the face element; throws "truncated"
-/// when the file is shorter than the header promises.
-inline void check_binary_size(const std::string& path, const PlyHeader& h, const PlyLayout& l,
-                              const std::string& bytes) {
+/// when the file is shorter than the header promises. Returns the offset of
+/// the first byte after the faces.
+inline std::size_t check_binary_size(const std::string& path, const PlyHeader& h, const PlyLayout& l,
+                                     const std::string& bytes) {
   const bool be = h.format == PlyFormat::BinaryBE;
   const std::size_t nv = h.elements[l.vertex_element].count, nf = h.elements[l.face_element].count;
-  // Lower bound from fixed sizes: every face list has at least three indices.
+  // Lower bound from fixed sizes (a face list may be empty: such faces are
+  // dropped, not an error).
   std::size_t minimum = h.body_offset;
   for (std::size_t e = 0; e <= l.face_element; ++e) {
     std::size_t stride = 0;
     for (const PlyProperty& p : h.elements[e].properties)
-      stride +=
-          p.is_list ? type_size(p.count_type) + (e == l.face_element ? 3 * type_size(p.type) : 0) : type_size(p.type);
+      stride += p.is_list ? type_size(p.count_type) : type_size(p.type);
     minimum += h.elements[e].count * stride;
   }
   auto truncated = [&](const std::string& detail) {
@@ -196,6 +207,96 @@ inline void check_binary_size(const std::string& path, const PlyHeader& h, const
     }
     if (at > bytes.size()) throw truncated("more (file ends in face " + std::to_string(f) + ")");
   }
+  return at;
+}
+
+/// One ASCII token as a value of type `t`: InputError naming `where` for a
+/// token that is not a number of that type, or not finite, or out of range.
+inline double ascii_value(const std::string& path, std::string_view token, PlyType t, const std::string& where) {
+  auto fail = [&](const std::string& why) {
+    return InputError(path, where + ": '" + std::string(token.substr(0, 32)) + "' " + why);
+  };
+  if (is_float(t)) {
+    double v = 0.0;
+    const std::string_view body = !token.empty() && token[0] == '+' ? token.substr(1) : token;
+    const auto r = std::from_chars(body.data(), body.data() + body.size(), v);
+    if (r.ec == std::errc::result_out_of_range) throw fail("is out of range for " + std::string(type_name(t)));
+    if (r.ec != std::errc() || r.ptr != body.data() + body.size()) throw fail("is not a number");
+    if (!std::isfinite(v)) throw fail("is not a finite number");
+    if (t == PlyType::Float32 && std::abs(v) > 3.4028234663852886e38) throw fail("is out of range for float");
+    return v;
+  }
+  long long v = 0;
+  const auto r = std::from_chars(token.data(), token.data() + token.size(), v);
+  static const long long lo[] = {-128, 0, -32768, 0, -2147483648LL, 0};
+  static const long long hi[] = {127, 255, 32767, 65535, 2147483647LL, 4294967295LL};
+  const int k = static_cast<int>(t);
+  if (r.ec != std::errc() || r.ptr != token.data() + token.size()) throw fail("is not an integer");
+  if (v < lo[k] || v > hi[k]) throw fail("is out of range for " + std::string(type_name(t)));
+  return static_cast<double>(v);
+}
+
+/// Checks an ASCII body up to the end of the face element, one element per
+/// line, every token a value of its property's type: a short or long line, a
+/// bad token, a non-finite value or a negative list count is an InputError
+/// naming the line, so OpenMesh (which reads tokens with no notion of lines)
+/// only ever sees a well-formed body and a line one value short cannot shift
+/// the data. Returns the offset of the first byte after the faces.
+inline std::size_t check_ascii_body(const std::string& path, const PlyHeader& h, const PlyLayout& l,
+                                    const std::string& bytes) {
+  std::size_t pos = h.body_offset;
+  int line_no = 0;
+  for (std::size_t e = 0; e <= l.face_element; ++e) {
+    const PlyElement& el = h.elements[e];
+    for (std::size_t i = 0; i < el.count; ++i) {
+      const std::string where = el.name + " " + std::to_string(i);
+      std::string_view line;
+      bool at_end = false;  // the line runs to the end of the file (no newline): a cut file
+      do {                  // the next non-blank line
+        if (pos >= bytes.size()) {
+          throw InputError(path, "truncated file: the body ends before " + where + " (the header promises " +
+                                     std::to_string(el.count) + " " + el.name + " lines)");
+        }
+        std::size_t eol = bytes.find('\n', pos);
+        at_end = eol == std::string::npos;
+        if (at_end) eol = bytes.size();
+        line = std::string_view(bytes).substr(pos, eol - pos);
+        pos = eol + 1;
+        ++line_no;
+        while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+          line.remove_suffix(1);
+        while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+      } while (line.empty());
+      std::vector<std::string_view> tok;
+      for (std::size_t a = 0; a < line.size();) {
+        const std::size_t b = line.find_first_of(" \t", a);
+        const std::size_t end = b == std::string_view::npos ? line.size() : b;
+        if (end > a) tok.push_back(line.substr(a, end - a));
+        a = end + 1;
+      }
+      const std::string at = "body line " + std::to_string(line_no) + " (" + where + ")";
+      auto short_line = [&](const std::string& what) {
+        if (at_end) return InputError(path, "truncated file: the body ends inside " + where);
+        return InputError(path, at + ": " + what);
+      };
+      std::size_t k = 0;
+      for (const PlyProperty& p : el.properties) {
+        if (k >= tok.size()) throw short_line("too few values on the line");
+        if (!p.is_list) {
+          ascii_value(path, tok[k++], p.type, at);
+          continue;
+        }
+        const auto n = static_cast<std::size_t>(ascii_value(path, tok[k++], p.count_type, at));
+        if (n > tok.size() - k) throw short_line("the list promises " + std::to_string(n) + " values");
+        for (std::size_t j = 0; j < n; ++j) ascii_value(path, tok[k++], p.type, at);
+      }
+      if (k != tok.size()) {
+        throw InputError(path,
+                         at + ": " + std::to_string(tok.size()) + " values on the line, expected " + std::to_string(k));
+      }
+    }
+  }
+  return std::min(pos, bytes.size());
 }
 
 /// The velocity triples tried, in order, for `attr` (see ReadOptions).
@@ -281,7 +382,8 @@ inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, cons
   if (is_float(face.properties[0].type))
     throw InputError(path, std::string("wrong property type for face indices: ") + type_name(face.properties[0].type) +
                                " (expected an integer type)");
-  if (h.format != PlyFormat::Ascii) check_binary_size(path, h, l, bytes);
+  l.body_end =
+      h.format == PlyFormat::Ascii ? check_ascii_body(path, h, l, bytes) : check_binary_size(path, h, l, bytes);
   return l;
 }
 
@@ -295,7 +397,7 @@ inline std::string canonical_ply_header(const PlyHeader& h, const PlyLayout& l) 
   static const char* formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
   static const char* counts[] = {"uchar", "uchar", "uint16", "uint16", "int", "int"};
   std::string s = std::string("ply\nformat ") + formats[static_cast<int>(h.format)] + " 1.0\n";
-  for (std::size_t e = 0; e < h.elements.size(); ++e) {
+  for (std::size_t e = 0; e <= l.face_element; ++e) {  // elements after the faces are not read
     const PlyElement& el = h.elements[e];
     s += "element " + el.name + " " + std::to_string(el.count) + "\n";
     for (std::size_t i = 0; i < el.properties.size(); ++i) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "fluidtex/io/mesh_io.h"
+#include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 
 namespace fluidtex {
@@ -19,7 +20,7 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
     frames_ = parse_frame_range(options_.frames);
     for (int f : frames_) {
       std::error_code ec;
-      if (!std::filesystem::is_regular_file(pattern_.path(f), ec)) {
+      if (!std::filesystem::exists(std::filesystem::symlink_status(pattern_.path(f), ec))) {
         throw InputError(pattern_.path(f),
                          "missing frame " + std::to_string(f) + " of the requested range " + options_.frames);
       }
@@ -28,6 +29,9 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
     frames_ = pattern_.discover();
     if (frames_.empty()) throw InputError(options_.pattern, "no frame matches this pattern");
   }
+  // Every frame is a regular file, checked before any output is written (a
+  // folder or FIFO named like a frame is an error, never a skipped frame).
+  for (int f : frames_) require_regular_file(pattern_.path(f), "frame " + std::to_string(f));
 }
 
 FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
@@ -61,8 +65,7 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
     }
   }
 
-  CleanReport cleaned = clean_mesh(mesh);
-  if (mesh.empty()) throw InputError(path, "empty mesh: no valid triangle left after cleaning");
+  CleanReport cleaned = clean_frame(path, mesh);
   if (options_.strict && cleaned.nonmanifold_edges > 0) {
     throw InputError(
         path, std::to_string(cleaned.nonmanifold_edges) + " non-manifold edges (--strict rejects non-manifold frames)");

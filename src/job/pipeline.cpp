@@ -24,6 +24,14 @@
 
 namespace fluidtex {
 
+void remove_frame_outputs(const JobOptions& options, int frame) {
+  std::error_code ec;
+  std::filesystem::remove(FramePattern(options.output.atlas()).path(frame), ec);
+  std::filesystem::remove(FramePattern(options.output.mesh()).path(frame), ec);
+  for (const std::string& layer : options.synthesis.aov)
+    std::filesystem::remove(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), ec);
+}
+
 std::string state_path(const std::string& dir, int frame) {
   return FramePattern(dir + "/state/patches.####.bin").path(frame);
 }
@@ -82,6 +90,12 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   const SynthesisResult result = texels(atlas, map);
   const double synth_seconds = seconds_since(t0);
   stats.seconds.emplace_back("synthesis", synth_seconds);
+
+  // A texel that is not finite is a bug, never an output (options bound the
+  // scales that could overflow).
+  for (float v : result.color.pixels) {
+    if (!std::isfinite(v)) throw InternalError("frame " + std::to_string(frame) + ": the atlas has non-finite texels");
+  }
 
   t0 = Clock::now();
   ImageWriteOptions write;
@@ -310,6 +324,15 @@ std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, co
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   const auto start = Clock::now();
   options.validate();
+  // Temporaries a killed run left behind (its atomic writes never renamed).
+  std::size_t stale = 0;
+  for (const std::filesystem::path& dir :
+       {std::filesystem::path(options.output.dir), std::filesystem::path(options.output.dir) / "state",
+        std::filesystem::path(options.output.dir) / "aov", std::filesystem::path(options.output.atlas()).parent_path(),
+        std::filesystem::path(options.output.mesh()).parent_path()}) {
+    stale += remove_stale_temporaries(dir.empty() ? "." : dir);
+  }
+  if (stale > 0) reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
   const Sequence sequence(options.input);
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
   if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
@@ -350,16 +373,27 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     method->texture(*work);
     return work;
   };
-  auto write = [&](WorkPtr work) {
+  std::size_t committed = first;  // frames [first, committed) have all their outputs
+  auto write = [&](const WorkPtr& work) {
     method->finish(*work);
+    committed = work->index + 1;
     stats.add(work->stats);
     ++summary.frames;
     reporter.progress(work->index + 1, sequence.size(), "written");
   };
-  tbb::parallel_pipeline(tokens, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &
-                                     tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::serial_in_order, track) &
-                                     tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::parallel, texture) &
-                                     tbb::make_filter<WorkPtr, void>(tbb::filter_mode::serial_in_order, write));
+  try {
+    tbb::parallel_pipeline(tokens, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &
+                                       tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::serial_in_order, track) &
+                                       tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::parallel, texture) &
+                                       tbb::make_filter<WorkPtr, void>(tbb::filter_mode::serial_in_order, write));
+  } catch (...) {
+    // Frames in flight may have their atlas and mesh on disk already: a
+    // frame is complete with its state, or absent (--resume redoes it).
+    if (options.method == TexturingMethod::Patches && options.output.write_state) {
+      for (std::size_t i = committed; i < sequence.size(); ++i) remove_frame_outputs(options, sequence.frames()[i]);
+    }
+    throw;
+  }
   if (method->failed() > 0) {
     reporter.warn(std::to_string(method->failed()) +
                   " new disks got no patch (degenerate selection or failed LSCM solve)");

@@ -332,8 +332,9 @@ double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& f
       hi = mid;
   }
   if (!(lo > 0.0) || !pack_shapes(flat, lo, n, options.gutter, placement)) {
-    throw InternalError("atlas: " + std::to_string(flat.size()) + " charts do not fit in " + std::to_string(n) +
-                        "² texels; raise --atlas-size");
+    throw InputError("", "atlas: " + std::to_string(flat.size()) + " charts do not fit in " + std::to_string(n) + "x" +
+                             std::to_string(n) + " texels with --gutter " + std::to_string(options.gutter) +
+                             "; raise --atlas-size");
   }
   return lo;
 }

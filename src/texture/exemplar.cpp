@@ -41,7 +41,12 @@ void Exemplar::sample(double u, double v, float* out) const {
   // Texel centres at (i + ½)/w; v up, rows down.
   const double x = u_to_px(u, w) - 0.5;
   const double y = v_to_py(v, h) - 0.5;
-  const double fx = std::floor(x), fy = std::floor(y);
+  double fx = std::floor(x), fy = std::floor(y);
+  if (!std::isfinite(fx) || !std::isfinite(fy)) fx = fy = 0.0;  // cannot come from a finite uv of a sane scale
+  // Far from the origin, wrap before converting to an integer (exact for
+  // integers below 2^53; farther out only the precision of the lookup suffers).
+  if (std::abs(fx) > 0x1p30) fx -= w * std::floor(fx / w);
+  if (std::abs(fy) > 0x1p30) fy -= h * std::floor(fy / h);
   const double tx = x - fx, ty = y - fy;
   auto wrap = [](long i, int n) {
     const long r = i % n;

@@ -57,6 +57,17 @@ Tracker::~Tracker() = default;
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
+void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& o) {
+  double area = 0.0;
+  for (double a : surface.face_areas()) area += a;
+  const double disks = area / (M_PI * o.d() * o.d());
+  if (disks > static_cast<double>(kMaxDisks)) {
+    throw InputError("", "--radius " + option_detail::format_number(o.d()) + " gives about " +
+                             std::to_string(std::llround(disks)) + " Poisson disks on the first frame (at most " +
+                             std::to_string(kMaxDisks) + "): raise --radius");
+  }
+}
+
 StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt) {
   StepReport report;
   report.frame = frame;
@@ -66,7 +77,10 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     // The index refers to *mesh; holding the mesh in the deleter keeps it
     // alive as long as anyone holds the surface.
     surface.reset(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
-    if (!started_) settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
+    if (!started_) {
+      settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
+      check_disk_budget(*surface, settings_.method);
+    }
   }
   if (started_) {
     const std::vector<AdvectResult> advected = advect(*surface, dt, report);  // 1

@@ -176,6 +176,7 @@ std::string Tracker::serialize() const {
 }
 
 Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> mesh) {
+  require_regular_file(path, "state file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open state file");
   std::ostringstream ss;

@@ -6,6 +6,7 @@
 
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/job/pipeline.h"
+#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
 
@@ -68,6 +69,37 @@ TEST(JobOptions, RunJobWritesItsJobToml) {
   job.seed = 5;
   run_job(job, silent_reporter());
   EXPECT_EQ(test::read_file(dir.path() / "out" / "job.toml"), job_toml(job));
+}
+
+}  // namespace
+}  // namespace fluidtex
+
+namespace fluidtex {
+namespace {
+
+/// A frame is complete with its state or absent: when the state cannot be
+/// written (here a folder is in its way; disk full or a read-only state/ are
+/// the same), the atlas and mesh of that frame and of the frames in flight
+/// behind it are removed again.
+TEST(Pipeline, FrameWhoseStateFailsLeavesNoAtlasOrMesh) {
+  test::TempDir dir;
+  SceneOptions so;
+  so.frames = 3;
+  so.resolution = 8;
+  write_scene("rotation", dir.str(), so);
+  write_image(dir.file("ex.png"), make_exemplar("gravel", 16, 1));
+  JobOptions job;
+  job.input.pattern = dir.file("rotation.####.ply");
+  job.exemplar = dir.file("ex.png");
+  job.output.dir = dir.file("out");
+  job.synthesis.atlas.size = 64;
+  std::filesystem::create_directories(dir.path() / "out" / "state" / "patches.0002.bin");
+  EXPECT_THROW(run_job(job, silent_reporter()), InternalError);
+  const auto out = dir.path() / "out";
+  EXPECT_TRUE(std::filesystem::exists(out / "atlas.0001.exr"));
+  EXPECT_TRUE(std::filesystem::exists(out / "state" / "patches.0001.bin"));
+  for (const char* name : {"atlas.0002.exr", "mesh.0002.obj", "atlas.0003.exr", "mesh.0003.obj"})
+    EXPECT_FALSE(std::filesystem::exists(out / name)) << name;  // frame 3 may have been in flight
 }
 
 }  // namespace

@@ -10,10 +10,14 @@
 
 namespace fluidtex {
 
+/// Limits on what a pattern or range may ask for.
+inline constexpr int kMaxFrameWidth = 10;         ///< digits of a padded frame number (an int has at most 10)
+inline constexpr long long kMaxFrames = 1000000;  ///< frames in one range
+
 class FramePattern {
  public:
-  /// Parses a pattern; throws InputError when it has no frame token or more
-  /// than one.
+  /// Parses a pattern; throws InputError when it has no frame token, more
+  /// than one, or a width over kMaxFrameWidth.
   explicit FramePattern(const std::string& pattern);
 
   /// The path of frame `frame` (negative frames get a leading '-').
@@ -39,8 +43,8 @@ class FramePattern {
 };
 
 /// Parses `1-120`, `1-120x2`, `7`, `1-10,20-30x5`; throws InputError on
-/// malformed text, an empty range (end < start) or a step < 1. Ascending,
-/// without duplicates.
+/// malformed text, an empty range (end < start), a step < 1 or more than
+/// kMaxFrames frames. Ascending, without duplicates.
 std::vector<int> parse_frame_range(const std::string& text);
 
 }  // namespace fluidtex

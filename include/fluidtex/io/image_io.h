@@ -125,10 +125,18 @@ struct Image {
 /// values (0: all image.channels).
 void sample_bilinear(const Image& image, double x, double y, float* out, int channels = 0);
 
-/// Reads subimage 0 of an image; throws InputError(path, "cannot read image:
+/// Largest images read_image accepts (a header may claim any size; this
+/// bounds the memory allocated before the pixels are seen): exemplars, and
+/// the atlases of finished runs (--atlas-size is at most 32768).
+inline constexpr long long kMaxImagePixels = 8192LL * 8192LL;
+inline constexpr long long kMaxAtlasPixels = 32768LL * 32768LL;
+inline constexpr int kMaxImageChannels = 16;
+
+/// Reads subimage 0 of an image (at most `max_pixels` pixels and
+/// kMaxImageChannels channels); throws InputError(path, "cannot read image:
 /// <reason>") (one line) when the file is missing, unreadable, truncated or
 /// not an image.
-Image read_image(const std::string& path);
+Image read_image(const std::string& path, long long max_pixels = kMaxImagePixels);
 
 enum class PixelDepth { Default, Half, Float, UInt8, UInt16 };
 

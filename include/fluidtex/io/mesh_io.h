@@ -17,6 +17,10 @@
 
 namespace fluidtex {
 
+/// Most corners a polygon may have (ear clipping is cubic in it; liquid
+/// meshes have triangles and quads).
+inline constexpr int kMaxPolygonCorners = 256;
+
 struct ReadOptions {
   /// Names of the velocity triple, e.g. "vel_x,vel_y,vel_z" or a prefix "vel"
   /// meaning vel_x/vel_y/vel_z or else velx/vely/velz. Empty: auto-detect `vx vy vz`,
@@ -40,5 +44,9 @@ struct ReadOptions {
 /// degenerate. Safe to call from several threads (the OpenMesh parse itself
 /// is serialised: its readers are process-wide singletons).
 FrameMesh read_frame(const std::string& path, const ReadOptions& options = {}, CleanReport* report = nullptr);
+
+/// clean_mesh() on the frame read from `path`; InputError naming the file
+/// when no face is left.
+CleanReport clean_frame(const std::string& path, FrameMesh& mesh, const CleanOptions& options = {});
 
 }  // namespace fluidtex

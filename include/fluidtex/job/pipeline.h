@@ -24,6 +24,10 @@ struct JobSummary {
   double seconds = 0.0;
 };
 
+/// Removes the atlas, AOVs and UV mesh of `frame` (when its state could not
+/// be written: a frame is complete with its state, or absent).
+void remove_frame_outputs(const JobOptions& options, int frame);
+
 /// The state file of `frame` under `dir` (DIR/state/patches.####.bin).
 std::string state_path(const std::string& dir, int frame);
 

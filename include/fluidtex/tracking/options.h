@@ -121,7 +121,7 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
     o.max_distortion);
   f(OptionInfo{.name = "uv-scale",
                .help = "s: scale of the uv coordinates at exemplar lookup (larger = smaller texture features)",
-               .bounds = above(0)},
+               .bounds = between(0, 1e6, true, false)},
     o.uv_scale);
   f(OptionInfo{.name = "max-projection",
                .help = "mpt: patch vertices farther than this from the new surface are removed (auto: 0.25 x radius)",

@@ -29,6 +29,14 @@
 
 namespace fluidtex {
 
+/// Most Poisson disks a first frame may ask for (surface area / πd²): a
+/// radius far below the scene's detail would take hours and gigabytes.
+inline constexpr long long kMaxDisks = 2000000;
+
+/// InputError naming --radius when the first frame's surface would hold more
+/// than kMaxDisks disks of the resolved radius.
+void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved);
+
 struct TrackerSettings {
   TrackingOptions method;  ///< Table 3/4 parameters (resolved on the first frame)
   Advection advection = Advection::Heun;

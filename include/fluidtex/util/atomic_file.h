@@ -1,6 +1,7 @@
 /// @file atomic_file.h
-/// @brief No half-written outputs: write to a temporary name in the target's
-/// folder, then rename over the target (atomic on POSIX file systems).
+/// @brief Files in and out. Outputs are never half-written: write to a
+/// temporary name in the target's folder, then rename over the target (atomic
+/// on POSIX file systems). Inputs are regular files only.
 #pragma once
 
 #include <filesystem>
@@ -23,5 +24,16 @@ void write_atomically(const std::filesystem::path& target,
 
 /// Writes `text` to `target` atomically.
 void write_text_atomically(const std::filesystem::path& target, const std::string& text);
+
+/// Removes the temporaries a killed run left in `dir` (not recursive):
+/// `.NAME.tmp-PID-N.EXT` files whose writer process is gone. Returns how
+/// many were removed.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
+
+/// InputError("PATH: <what> is ...") unless `path` is a regular file (or a
+/// link to one): missing, a dangling link, a link loop, a folder, a FIFO, a
+/// device or a socket is refused before anything opens it (opening a FIFO or
+/// a device would block or never end).
+void require_regular_file(const std::string& path, const std::string& what);
 
 }  // namespace fluidtex

@@ -1,0 +1,401 @@
+// Hostile input, end to end: malformed meshes, images, paths, options and
+// state files, generated here (nothing large is committed), each run through
+// the fluidtex executable with a CPU, memory and wall-clock limit. For every
+// case: no hang, no crash, exit code 0 or 2, an error is exactly one line on
+// stderr naming the file when a file is at fault, no temporary file is left
+// behind, every frame written is complete, and a second run gives the same
+// exit code and message.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <sstream>
+#include <thread>
+
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/scenes/scenes.h"
+#include "test_util.h"
+
+namespace fluidtex {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int code = -1;  ///< exit code; -1: killed (signal or timeout)
+  std::string out, err;
+  bool timed_out = false;
+};
+
+/// Runs fluidtex with `args` under RLIMIT_AS (bytes), RLIMIT_CPU and a wall
+/// clock limit, in `cwd`.
+Outcome run_limited(const std::vector<std::string>& args, const fs::path& cwd, double wall_seconds = 60.0,
+                    rlim_t memory = 3ull << 30) {
+  const fs::path out_file = cwd / ".stdout", err_file = cwd / ".stderr";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (::chdir(cwd.c_str()) != 0) ::_exit(126);
+    const rlimit mem{memory, memory}, cpu{120, 120};
+    ::setrlimit(RLIMIT_AS, &mem);
+    ::setrlimit(RLIMIT_CPU, &cpu);
+    const int o = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(o, 1), ::dup2(e, 2);
+    std::vector<char*> argv{const_cast<char*>(FLUIDTEX_EXE)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(FLUIDTEX_EXE, argv.data());
+    ::_exit(127);
+  }
+  Outcome r;
+  int status = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > wall_seconds) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      r.timed_out = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (!r.timed_out && WIFEXITED(status)) r.code = WEXITSTATUS(status);
+  r.out = test::read_file(out_file);
+  r.err = test::read_file(err_file);
+  fs::remove(out_file), fs::remove(err_file);
+  return r;
+}
+
+// --- Generators --------------------------------------------------------------------------
+
+const char* const kHeader =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "property float vx\nproperty float vy\nproperty float vz\nelement face 2\n"
+    "property list uchar int vertex_indices\nend_header\n";
+const char* const kVertices = "0 0 0 0 0 0\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n";
+const char* const kFaces = "3 0 1 2\n3 0 2 3\n";
+
+std::string ascii(const std::string& vertices = kVertices, const std::string& faces = kFaces,
+                  const std::string& header = kHeader) {
+  return header + vertices + faces;
+}
+
+/// The same square as a binary little-endian PLY; `faces` is the raw face
+/// body (count byte + int32 indices per face), `nf` its face count.
+std::string binary(const std::string& faces, int nf, int nv = 4) {
+  std::string h = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(nv) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nproperty float vx\nproperty float vy\n"
+                  "property float vz\nelement face " +
+                  std::to_string(nf) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  const float p[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (int v = 0; v < 4; ++v) {
+    const float row[6] = {p[v][0], p[v][1], 0, 0, 0, 0};
+    h.append(reinterpret_cast<const char*>(row), sizeof row);
+  }
+  return h + faces;
+}
+
+std::string face_bytes(std::initializer_list<int> idx) {
+  std::string s(1, static_cast<char>(idx.size()));
+  for (int i : idx) s.append(reinterpret_cast<const char*>(&i), 4);
+  return s;
+}
+
+/// A PNG whose header claims `w` x `h` pixels (the data is tiny).
+std::string png_claiming(std::uint32_t w, std::uint32_t h) {
+  auto be32 = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                       static_cast<char>(v)};
+  };
+  std::string ihdr = be32(w) + be32(h) + std::string{8, 2, 0, 0, 0};
+  auto chunk = [&](const std::string& type, const std::string& data) {
+    return be32(static_cast<std::uint32_t>(data.size())) + type + data + be32(0);  // CRC not checked first
+  };
+  return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", std::string(16, '\0')) +
+         chunk("IEND", "");
+}
+
+struct Case {
+  std::string name;
+  /// Prepares the case folder; returns the fluidtex arguments.
+  std::function<std::vector<std::string>(const fs::path&)> setup;
+  /// The file the message must name ("" = none).
+  std::string names;
+};
+
+/// A run over a one-frame mesh `bytes` (m.0001.ply) with a good exemplar.
+Case mesh_case(const std::string& name, const std::string& bytes) {
+  return {name,
+          [bytes](const fs::path& dir) {
+            test::write_file(dir / "m.0001.ply", bytes);
+            write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
+            return std::vector<std::string>{"run",    "-q", "-i",  "m.####.ply",   "-e",
+                                            "ex.png", "-o", "out", "--atlas-size", "64"};
+          },
+          "m.0001.ply"};
+}
+
+/// A run over a small good sequence with extra arguments, after `prepare`.
+Case scene_case(const std::string& name, std::vector<std::string> extra, const std::string& names = "",
+                std::function<void(const fs::path&)> prepare = {}) {
+  return {name,
+          [extra, prepare](const fs::path& dir) {
+            SceneOptions so;
+            so.frames = 3;
+            so.resolution = 10;
+            write_scene("rotation", dir.string(), so);
+            write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
+            if (prepare) prepare(dir);
+            std::vector<std::string> args{"run",    "-q", "-i",  "rotation.####.ply", "-e",
+                                          "ex.png", "-o", "out", "--atlas-size",      "64"};
+            args.insert(args.end(), extra.begin(), extra.end());
+            return args;
+          },
+          names};
+}
+
+std::vector<Case> cases() {
+  std::vector<Case> c;
+  const std::string H = kHeader;
+  // ASCII bodies: bad tokens, short and long lines, counts.
+  for (const char* token : {"abc", "nan", "-nan", "inf", "-inf", "1e999", "1e39", "0x10", "1,5", "--1", "1e", "."}) {
+    c.push_back(mesh_case(std::string("ascii_vertex_token_") + token,
+                          ascii(std::string("0 0 0 ") + token + " 0 0\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n")));
+  }
+  for (const char* token : {"abc", "-1", "4", "99999999999", "2.5", "nan"})
+    c.push_back(mesh_case(std::string("ascii_index_") + token,
+                          ascii(kVertices, std::string("3 0 1 ") + token + "\n3 0 2 3\n")));
+  for (const char* count : {"-3", "255", "300", "abc", "2.0", "0"})
+    c.push_back(mesh_case(std::string("ascii_list_count_") + count,
+                          ascii(kVertices, std::string(count) + " 0 1 2\n3 0 2 3\n")));
+  c.push_back(mesh_case("ascii_vertex_short_line", ascii("0 0 0 0 0\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n")));
+  c.push_back(mesh_case("ascii_vertex_long_line", ascii("0 0 0 0 0 0 7\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n")));
+  c.push_back(mesh_case("ascii_two_vertices_one_line", ascii("0 0 0 0 0 0 1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n")));
+  c.push_back(mesh_case("ascii_face_long_line", ascii(kVertices, "3 0 1 2 3\n3 0 2 3\n")));
+  c.push_back(mesh_case("ascii_missing_face_line", ascii(kVertices, "3 0 1 2\n")));
+  c.push_back(mesh_case("ascii_cut_mid_line", ascii(kVertices, "3 0 1 2\n3 0")));
+  c.push_back(mesh_case("ascii_empty_body", H));
+  c.push_back(mesh_case("ascii_crlf",
+                        "ply\r\nformat ascii 1.0\r\nelement vertex 4\r\nproperty float x\r\n"
+                        "property float y\r\nproperty float z\r\nproperty float vx\r\n"
+                        "property float vy\r\nproperty float vz\r\nelement face 2\r\n"
+                        "property list uchar int vertex_indices\r\nend_header\r\n0 0 0 0 0 0\r\n"
+                        "1 0 0 0 0 0\r\n1 1 0 0 0 0\r\n0 1 0 0 0 0\r\n3 0 1 2\r\n3 0 2 3\r\n"));
+  c.push_back(mesh_case("ascii_blank_lines", ascii("\n0 0 0 0 0 0\n\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n\n")));
+  c.push_back(mesh_case("ascii_garbage_after_faces", ascii(kVertices, std::string(kFaces) + "garbage \x01\x02\n")));
+  c.push_back(mesh_case("ascii_random_body", H + std::string("\x13\x88\xff\x00\x41 9 9 \xfe\n", 12)));
+  c.push_back(mesh_case("ascii_short_faces_dropped", [] {
+    std::string h = kHeader;
+    h.replace(h.find("element face 2"), 14, "element face 4");
+    return h + kVertices + "0\n2 0 1\n3 0 1 2\n3 0 2 3\n";
+  }()));
+  c.push_back(mesh_case("ascii_one_far_vertex", ascii("0 0 0 0 0 0\n1 0 0 0 0 0\n1 1 0 0 0 0\n1e30 1 0 0 0 0\n")));
+  // Headers.
+  c.push_back(mesh_case("header_no_end", "ply\nformat ascii 1.0\nelement vertex 4\n"));
+  c.push_back(mesh_case("header_nul", std::string("ply\nformat ascii 1.0\nelement vertex 4\0\0\0\n", 40) + kVertices));
+  c.push_back(mesh_case("header_hex_count", [] {
+    std::string h = kHeader;
+    h.replace(h.find("vertex 4"), 8, "vertex 0x4");
+    return h + kVertices + kFaces;
+  }()));
+  c.push_back(mesh_case("header_huge_count", [] {
+    std::string h = kHeader;
+    h.replace(h.find("vertex 4"), 8, "vertex 2147483647");
+    return h + kVertices + kFaces;
+  }()));
+  c.push_back(mesh_case("header_too_large_count", [] {
+    std::string h = kHeader;
+    h.replace(h.find("vertex 4"), 8, "vertex 99999999999999");
+    return h + kVertices + kFaces;
+  }()));
+  c.push_back(mesh_case("header_unknown_type", [] {
+    std::string h = kHeader;
+    h.replace(h.find("float vx"), 8, "quad vx");
+    return h + kVertices + kFaces;
+  }()));
+  c.push_back(mesh_case("header_no_velocity",
+                        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                        "property float y\nproperty float z\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n"
+                        "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  c.push_back(mesh_case("header_bad_magic", "plx\n" + ascii().substr(4)));
+  c.push_back(mesh_case("header_only_magic", "ply\n"));
+  c.push_back(mesh_case("empty_file", ""));
+  // Polygons.
+  {
+    std::string h =
+        "ply\nformat ascii 1.0\nelement vertex 300\nproperty float x\nproperty float y\n"
+        "property float z\nproperty float vx\nproperty float vy\nproperty float vz\n"
+        "element face 1\nproperty list ushort int vertex_indices\nend_header\n";
+    std::ostringstream body;
+    for (int k = 0; k < 300; ++k)
+      body << std::cos(2 * M_PI * k / 300) << " " << std::sin(2 * M_PI * k / 300) << " 0 0 0 0\n";
+    body << 300;
+    for (int k = 0; k < 300; ++k) body << " " << k;
+    body << "\n";
+    c.push_back(mesh_case("polygon_300_corners", h + body.str()));
+  }
+  // Binary bodies.
+  c.push_back(mesh_case("binary_good", binary(face_bytes({0, 1, 2}) + face_bytes({0, 2, 3}), 2)));
+  c.push_back(mesh_case("binary_truncated", binary(face_bytes({0, 1, 2}) + face_bytes({0, 2}), 2)));
+  c.push_back(
+      mesh_case("binary_short_face_kept", binary(face_bytes({}) + face_bytes({0, 1, 2}) + face_bytes({0, 2, 3}), 3)));
+  c.push_back(mesh_case("binary_huge_list", binary(std::string(1, '\xff') + face_bytes({0, 2, 3}), 2)));
+  c.push_back(mesh_case("binary_index_out_of_range", binary(face_bytes({0, 1, 7}) + face_bytes({0, 2, 3}), 2)));
+  c.push_back(mesh_case("binary_nan_position", [] {
+    std::string b = binary(face_bytes({0, 1, 2}) + face_bytes({0, 2, 3}), 2);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    b.replace(b.find("end_header\n") + 11, 4, reinterpret_cast<const char*>(&nan), 4);
+    return b;
+  }()));
+  c.push_back(mesh_case("binary_random_body", binary(std::string("\x03\x10\x27\x00\x00\xff\xff\xff\x7f", 9), 2)));
+  // Paths that are not regular files.
+  auto replace_frame = [](const std::function<void(const fs::path&)>& make) {
+    return [make](const fs::path& dir) {
+      fs::remove(dir / "rotation.0002.ply");
+      make(dir / "rotation.0002.ply");
+    };
+  };
+  c.push_back(scene_case("frame_is_folder", {}, "rotation.0002.ply",
+                         replace_frame([](const fs::path& p) { fs::create_directory(p); })));
+  c.push_back(scene_case("frame_is_fifo", {}, "rotation.0002.ply",
+                         replace_frame([](const fs::path& p) { ::mkfifo(p.c_str(), 0644); })));
+  c.push_back(scene_case("frame_dangling_link", {}, "rotation.0002.ply",
+                         replace_frame([](const fs::path& p) { fs::create_symlink("nowhere.ply", p); })));
+  c.push_back(scene_case("frame_link_loop", {}, "rotation.0002.ply",
+                         replace_frame([](const fs::path& p) { fs::create_symlink(p.filename(), p); })));
+  c.push_back(scene_case("frame_missing_in_range", {"--frames", "1-5"}, "rotation.0004.ply"));
+  // Exemplars.
+  auto exemplar = [](const std::function<void(const fs::path&)>& make) {
+    return [make](const fs::path& dir) {
+      fs::remove(dir / "ex.png");
+      make(dir / "ex.png");
+    };
+  };
+  c.push_back(scene_case("exemplar_missing", {}, "ex.png", exemplar([](const fs::path&) {})));
+  c.push_back(
+      scene_case("exemplar_folder", {}, "ex.png", exemplar([](const fs::path& p) { fs::create_directory(p); })));
+  c.push_back(
+      scene_case("exemplar_fifo", {}, "ex.png", exemplar([](const fs::path& p) { ::mkfifo(p.c_str(), 0644); })));
+  c.push_back(scene_case("exemplar_dev_zero", {}, "ex.png",
+                         exemplar([](const fs::path& p) { fs::create_symlink("/dev/zero", p); })));
+  c.push_back(scene_case("exemplar_text", {}, "ex.png",
+                         exemplar([](const fs::path& p) { test::write_file(p, "not an image\n"); })));
+  c.push_back(scene_case("exemplar_claims_65535", {}, "ex.png",
+                         exemplar([](const fs::path& p) { test::write_file(p, png_claiming(65535, 65535)); })));
+  c.push_back(scene_case("exemplar_claims_16384", {}, "ex.png",
+                         exemplar([](const fs::path& p) { test::write_file(p, png_claiming(16384, 16384)); })));
+  c.push_back(scene_case("exemplar_truncated", {}, "ex.png", exemplar([](const fs::path& p) {
+                           write_image(p.string(), make_exemplar("gravel", 64, 2));
+                           const std::string bytes = test::read_file(p);
+                           test::write_file(p, bytes.substr(0, bytes.size() / 2));
+                         })));
+  // Options and patterns.
+  c.push_back(scene_case("frames_two_billion", {"--frames", "1-2000000000"}));
+  c.push_back(scene_case("frames_malformed", {"--frames", "1-x"}));
+  c.push_back({"pattern_width_huge",
+               [](const fs::path&) {
+                 return std::vector<std::string>{"run", "-q", "-i", "m.%99999999999d.ply", "-e", "ex.png", "-o", "o"};
+               },
+               "m.%99999999999d.ply"});
+  c.push_back(scene_case("radius_tiny", {"--radius", "1e-6"}));
+  c.push_back(scene_case("radius_negative", {"--radius", "-1"}));
+  c.push_back(scene_case("radius_text", {"--radius", "big"}));
+  c.push_back(scene_case("uv_scale_huge", {"--uv-scale", "1e300"}));
+  c.push_back(scene_case("atlas_too_small", {"--atlas-size", "16", "--gutter", "64"}));
+  c.push_back(scene_case("unknown_option", {"--bogus"}));
+  c.push_back(scene_case("config_missing", {"--config", "nowhere.toml"}, "nowhere.toml"));
+  c.push_back(scene_case("config_garbage", {"--config", "c.toml"}, "c.toml",
+                         [](const fs::path& dir) { test::write_file(dir / "c.toml", "radius = = 3\n[[[\n\x01\x02"); }));
+  c.push_back(scene_case("config_bad_value", {"--config", "c.toml"}, "c.toml",
+                         [](const fs::path& dir) { test::write_file(dir / "c.toml", "fade-frames = 0\n"); }));
+  // State files under --resume.
+  auto state = [](const std::string& bytes) {
+    return [bytes](const fs::path& dir) {
+      fs::create_directories(dir / "out" / "state");
+      test::write_file(dir / "out" / "state" / "patches.0001.bin", bytes);
+    };
+  };
+  c.push_back(scene_case("state_garbage", {"--resume"}, "patches.0001.bin", state("FTXSTATE\x02\0\0\0garbage")));
+  c.push_back(scene_case("state_empty", {"--resume"}, "patches.0001.bin", state("")));
+  c.push_back(scene_case("stale_temporaries_removed", {}, "", [](const fs::path& dir) {
+    fs::create_directories(dir / "out");
+    test::write_file(dir / "out" / ".atlas.0001.tmp-999999999-3.exr", "half");
+  }));
+  return c;
+}
+
+/// Every file under `dir` whose name marks an unfinished atomic write.
+std::vector<std::string> temporaries(const fs::path& dir) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return found;
+  for (const auto& e : fs::recursive_directory_iterator(dir, ec)) {
+    if (e.path().filename().string().find(".tmp-") != std::string::npos) found.push_back(e.path().string());
+  }
+  return found;
+}
+
+/// Frames with an atlas but no mesh or state (or the other way round).
+std::vector<int> partial_frames(const fs::path& out) {
+  std::vector<int> partial;
+  for (int f = 1; f <= 5; ++f) {
+    const bool atlas = fs::exists(out / FramePattern("atlas.####.exr").path(f));
+    const bool mesh = fs::exists(out / FramePattern("mesh.####.obj").path(f));
+    const bool state = fs::exists(out / "state" / FramePattern("patches.####.bin").path(f));
+    if (atlas != mesh || (atlas && !state)) partial.push_back(f);
+  }
+  return partial;
+}
+
+class HostileInput : public ::testing::TestWithParam<std::size_t> {};
+
+TEST_P(HostileInput, ExitsCleanlyWithOneLine) {
+  const Case c = cases()[GetParam()];
+  SCOPED_TRACE(c.name);
+  test::TempDir root;
+  const fs::path dir = root.path() / "first";
+  fs::create_directories(dir);
+  const Outcome first = run_limited(c.setup(dir), dir);
+  ASSERT_FALSE(first.timed_out) << "hang";
+  ASSERT_TRUE(first.code == 0 || first.code == 2) << "exit " << first.code << ": " << first.err;
+  if (first.code == 2) {
+    ASSERT_FALSE(first.err.empty());
+    EXPECT_EQ(first.err.find('\n'), first.err.size() - 1) << "not one line: " << first.err;
+    EXPECT_EQ(first.err.rfind("fluidtex: error: ", 0), 0u) << first.err;
+    if (!c.names.empty()) EXPECT_NE(first.err.find(c.names), std::string::npos) << first.err;
+  }
+  EXPECT_EQ(temporaries(dir), std::vector<std::string>{});
+  EXPECT_EQ(partial_frames(dir / "out"), std::vector<int>{});
+  // The same again, in a fresh folder.
+  const fs::path again = root.path() / "second";
+  fs::create_directories(again);
+  const Outcome second = run_limited(c.setup(again), again);
+  EXPECT_EQ(second.code, first.code);
+  EXPECT_EQ(second.err, first.err);
+}
+
+std::string case_name(const ::testing::TestParamInfo<std::size_t>& info) {
+  std::string name = cases()[info.param].name;
+  for (char& ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  }
+  return name + "_" + std::to_string(info.param);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, HostileInput, ::testing::Range<std::size_t>(0, cases().size()), case_name);
+
+}  // namespace
+}  // namespace fluidtex
