@@ -321,18 +321,27 @@ std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, co
 
 }  // namespace
 
-JobSummary run_job(const JobOptions& options, Reporter& reporter) {
-  const auto start = Clock::now();
-  options.validate();
-  // Temporaries a killed run left behind (its atomic writes never renamed).
+namespace {
+
+/// Removes the temporaries a killed run left in the output folders (its
+/// atomic writes never renamed).
+void remove_interrupted_temporaries(const JobOptions& options, Reporter& reporter) {
+  namespace fs = std::filesystem;
+  const fs::path out(options.output.dir);
   std::size_t stale = 0;
-  for (const std::filesystem::path& dir :
-       {std::filesystem::path(options.output.dir), std::filesystem::path(options.output.dir) / "state",
-        std::filesystem::path(options.output.dir) / "aov", std::filesystem::path(options.output.atlas()).parent_path(),
-        std::filesystem::path(options.output.mesh()).parent_path()}) {
+  for (const fs::path& dir : {out, out / "state", out / "aov", fs::path(options.output.atlas()).parent_path(),
+                              fs::path(options.output.mesh()).parent_path()}) {
     stale += remove_stale_temporaries(dir.empty() ? "." : dir);
   }
   if (stale > 0) reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
+}
+
+}  // namespace
+
+JobSummary run_job(const JobOptions& options, Reporter& reporter) {
+  const auto start = Clock::now();
+  options.validate();
+  remove_interrupted_temporaries(options, reporter);
   const Sequence sequence(options.input);
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
   if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
