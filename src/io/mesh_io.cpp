@@ -289,6 +289,32 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
   return mesh;
 }
 
+/// Checks every vertex line ("v x y z [w]" or "v x y z r g b") of an OBJ:
+/// OpenMesh's reader silently skips one it cannot parse, which shifts every
+/// later index by one.
+void check_obj_vertices(const std::string& path, const std::string& bytes) {
+  std::size_t pos = 0;
+  for (int line_no = 1; pos < bytes.size(); ++line_no) {
+    std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::string_view line = std::string_view(bytes).substr(pos, eol - pos);
+    pos = eol + 1;
+    while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+    if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+    std::vector<std::string_view> tok;
+    for (std::size_t a = 1; a < line.size();) {
+      const std::size_t b = line.find_first_of(" \t\r", a);
+      const std::size_t end = b == std::string_view::npos ? line.size() : b;
+      if (end > a) tok.push_back(line.substr(a, end - a));
+      a = end + 1;
+    }
+    const std::string where = "line " + std::to_string(line_no) + " (vertex)";
+    if (tok.size() != 3 && tok.size() != 4 && tok.size() != 6 && tok.size() != 7)
+      throw InputError(path, where + ": " + std::to_string(tok.size()) + " values, expected x y z [w] or x y z r g b");
+    for (std::string_view t : tok) ascii_value(path, t, PlyType::Float64, where);
+  }
+}
+
 FrameMesh read_obj(const std::string& path, const std::string& bytes, const ReadOptions& options,
                    std::size_t& short_faces) {
   if (options.require_velocities)
@@ -296,6 +322,7 @@ FrameMesh read_obj(const std::string& path, const std::string& bytes, const Read
                      "OBJ cannot carry velocities; use a PLY with per-vertex velocities or "
                      "--velocity-from-positions");
   if (bytes.substr(0, 4096).find('\0') != std::string::npos) throw InputError(path, "not an OBJ file (binary data)");
+  check_obj_vertices(path, bytes);
   FrameImporter im;
   // OBJReader reads from the file itself (it resolves mtllib paths relative to it).
   const bool ok = run_openmesh_reader([&] {

@@ -147,6 +147,20 @@ Case mesh_case(const std::string& name, const std::string& bytes) {
           "m.0001.ply"};
 }
 
+/// A run over two copies of an OBJ frame (velocities from positions).
+Case obj_case(const std::string& name, const std::string& bytes) {
+  return {name,
+          [bytes](const fs::path& dir) {
+            test::write_file(dir / "m.0001.obj", bytes);
+            test::write_file(dir / "m.0002.obj", bytes);
+            write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
+            return std::vector<std::string>{"run", "-q",     "-i", "m.####.obj", "--velocity-from-positions",
+                                            "-e",  "ex.png", "-o", "out",        "--atlas-size",
+                                            "64"};
+          },
+          "m.0001.obj"};
+}
+
 /// A run over a small good sequence with extra arguments, after `prepare`.
 Case scene_case(const std::string& name, std::vector<std::string> extra, const std::string& names = "",
                 std::function<void(const fs::path&)> prepare = {}) {
@@ -261,6 +275,17 @@ std::vector<Case> cases() {
     return b;
   }()));
   c.push_back(mesh_case("binary_random_body", binary(std::string("\x03\x10\x27\x00\x00\xff\xff\xff\x7f", 9), 2)));
+  // OBJ frames.
+  const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+  c.push_back(obj_case("obj_good", quad + "f 1 2 3\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_short_vertex", "v 0 0 0\nv 1 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_bad_token", "v 0 0 0\nv 1 abc 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_nan", "v 0 0 0\nv nan 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_overflow", "v 0 0 0\nv 1e999 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_index_out_of_range", quad + "f 1 2 99\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_negative_index", quad + "f 1 2 -9\nf 1 3 4\n"));
+  c.push_back(obj_case("obj_no_faces", quad));
+  c.push_back(obj_case("obj_binary", std::string("v 0 0 0\n\0\x01\x02", 11)));
   // Paths that are not regular files.
   auto replace_frame = [](const std::function<void(const fs::path&)>& make) {
     return [make](const fs::path& dir) {
