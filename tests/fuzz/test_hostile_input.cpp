@@ -422,5 +422,41 @@ std::string case_name(const ::testing::TestParamInfo<std::size_t>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, HostileInput, ::testing::Range<std::size_t>(0, cases().size()), case_name);
 
+/// kill -9 at several moments of a run, then --resume: the outputs are
+/// byte-identical to an uninterrupted run, and nothing temporary is left.
+TEST(KillAndResume, GivesTheUninterruptedOutputs) {
+  test::TempDir dir;
+  SceneOptions so;
+  so.frames = 6;
+  so.resolution = 16;
+  write_scene("rotation", dir.str(), so);
+  write_image(dir.file("ex.png"), make_exemplar("gravel", 32, 1));
+  auto args = [&](const std::string& out) {
+    return std::vector<std::string>{
+        "run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", out, "--atlas-size", "128", "--seed", "3"};
+  };
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(run_limited(args("full"), dir.path()).code, 0);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  int interrupted = 0;
+  for (const double at : {0.1, 0.35, 0.6, 0.85}) {
+    const std::string out = "killed" + std::to_string(static_cast<int>(at * 100));
+    SCOPED_TRACE(out);
+    interrupted += run_limited(args(out), dir.path(), at * seconds).timed_out;  // or it finished first
+    std::vector<std::string> resume = args(out);
+    resume.push_back("--resume");
+    const Outcome resumed = run_limited(resume, dir.path());
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    EXPECT_EQ(temporaries(dir.path() / out), std::vector<std::string>{});
+    for (int f = 1; f <= so.frames; ++f) {
+      for (const std::string pattern : {"atlas.####.exr", "mesh.####.obj", "state/patches.####.bin"}) {
+        const std::string name = FramePattern(pattern).path(f);
+        EXPECT_EQ(test::read_file(dir.path() / "full" / name), test::read_file(dir.path() / out / name)) << name;
+      }
+    }
+  }
+  EXPECT_GE(interrupted, 2);  // the test kills runs mid-way
+}
+
 }  // namespace
 }  // namespace fluidtex
