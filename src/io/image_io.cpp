@@ -237,7 +237,8 @@ class StderrCapture {
   std::string captured_;
 };
 
-Image read_image_file(const std::string& path, long long max_pixels);
+Image decode_image(const std::string& path, long long max_pixels, OIIO::ImageSpec& spec);
+void linearise(Image& image, const OIIO::ImageSpec& spec);
 
 }  // namespace
 
@@ -247,20 +248,31 @@ Image read_image(const std::string& path, long long max_pixels) {
   } catch (const InputError& e) {
     throw InputError(path, "cannot read image: " + e.problem());
   }
-  if (lower_extension(path) != ".png") return read_image_file(path, max_pixels);
-  StderrCapture capture;
-  try {
-    return read_image_file(path, max_pixels);
-  } catch (const InputError& e) {
-    const std::string printed = capture.text();
-    if (printed.empty() || e.problem().find(printed) != std::string::npos) throw;
-    throw InputError(path, e.problem() + " (" + printed + ")");
+  OIIO::ImageSpec spec;
+  Image image;
+  if (lower_extension(path) != ".png") {
+    image = decode_image(path, max_pixels, spec);
+  } else {
+    // Only around the decoder: the capture holds a process-wide lock, which
+    // must not be held across the parallel conversion below (a TBB thread
+    // waiting there may run another read_image).
+    StderrCapture capture;
+    try {
+      image = decode_image(path, max_pixels, spec);
+    } catch (const InputError& e) {
+      const std::string printed = capture.text();
+      if (printed.empty() || e.problem().find(printed) != std::string::npos) throw;
+      throw InputError(path, e.problem() + " (" + printed + ")");
+    }
   }
+  linearise(image, spec);
+  return image;
 }
 
 namespace {
 
-Image read_image_file(const std::string& path, long long max_pixels) {
+/// The pixels as stored (float), and the file's spec.
+Image decode_image(const std::string& path, long long max_pixels, OIIO::ImageSpec& spec) {
   auto fail = [&](const std::string& reason) { return InputError(path, "cannot read image: " + reason); };
 
   OIIO::ImageSpec config;
@@ -271,7 +283,7 @@ Image read_image_file(const std::string& path, long long max_pixels) {
     if (reason.empty()) reason = "not an image in a format OpenImageIO reads";
     throw fail(reason);
   }
-  const OIIO::ImageSpec spec = in->spec();
+  spec = in->spec();
   if (spec.deep) throw fail("deep images are not supported");
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw fail("empty image");
   if (spec.depth > 1) throw fail("volume images are not supported");
@@ -294,10 +306,14 @@ Image read_image_file(const std::string& path, long long max_pixels) {
   }
   in->close();
   (void)OIIO::geterror();  // clear any stale global message
+  return image;
+}
 
+/// Integer and sRGB-tagged files to linear (see the header).
+void linearise(Image& image, const OIIO::ImageSpec& spec) {
   float gamma = 1.0f;
   const Transfer transfer = transfer_of(spec, &gamma);
-  if (transfer == Transfer::Linear) return image;
+  if (transfer == Transfer::Linear) return;
   const int alpha = alpha_index(spec);
   const size_t row = static_cast<size_t>(image.width) * image.channels;
   tbb::parallel_for(0, image.height, [&](int y) {
@@ -308,7 +324,6 @@ Image read_image_file(const std::string& path, long long max_pixels) {
       p[i] = static_cast<float>(transfer == Transfer::SRGB ? srgb_to_linear(v) : std::pow(std::max(v, 0.0), gamma));
     }
   });
-  return image;
 }
 
 }  // namespace
