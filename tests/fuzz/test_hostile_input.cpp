@@ -433,6 +433,26 @@ std::string case_name(const ::testing::TestParamInfo<std::size_t>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, HostileInput, ::testing::Range<std::size_t>(0, cases().size()), case_name);
 
+/// A job too big for the memory it is given ends with one line and exit 2
+/// (std::bad_alloc was "internal error", exit 1).
+TEST(OutOfMemory, IsOneLineAndExit2) {
+  if (kSanitized) GTEST_SKIP() << "ASan replaces the allocator's failure with its own report";
+  test::TempDir dir;
+  SceneOptions so;
+  so.frames = 2;
+  so.resolution = 10;
+  write_scene("rotation", dir.str(), so);
+  write_image(dir.file("ex.png"), make_exemplar("gravel", 32, 1));
+  const Outcome r = run_limited(
+      {"run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", "out", "--atlas-size", "32768", "--threads", "1"},
+      dir.path(), 60.0, 1ull << 30);
+  ASSERT_FALSE(r.timed_out);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err, "fluidtex: error: out of memory: lower --atlas-size or --threads, or give the job more memory\n");
+  EXPECT_EQ(temporaries(dir.path()), std::vector<std::string>{});
+  EXPECT_EQ(partial_frames(dir.path() / "out"), std::vector<int>{});
+}
+
 /// kill -9 at several moments of a run, then --resume: the outputs are
 /// byte-identical to an uninterrupted run, and nothing temporary is left.
 TEST(KillAndResume, GivesTheUninterruptedOutputs) {
