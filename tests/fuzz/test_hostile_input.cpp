@@ -103,6 +103,12 @@ std::string ascii(const std::string& vertices = kVertices, const std::string& fa
   return header + vertices + faces;
 }
 
+/// kHeader with its first `from` replaced by `to`.
+std::string header_with(const std::string& from, const std::string& to) {
+  std::string h = kHeader;
+  return h.replace(h.find(from), from.size(), to);
+}
+
 /// The same square as a binary little-endian PLY; `faces` is the raw face
 /// body (count byte + int32 indices per face), `nf` its face count.
 std::string binary(const std::string& faces, int nf, int nv = 4) {
@@ -221,35 +227,17 @@ std::vector<Case> cases() {
   c.push_back(mesh_case("ascii_blank_lines", ascii("\n0 0 0 0 0 0\n\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n\n")));
   c.push_back(mesh_case("ascii_garbage_after_faces", ascii(kVertices, std::string(kFaces) + "garbage \x01\x02\n")));
   c.push_back(mesh_case("ascii_random_body", H + std::string("\x13\x88\xff\x00\x41 9 9 \xfe\n", 12)));
-  c.push_back(mesh_case("ascii_short_faces_dropped", [] {
-    std::string h = kHeader;
-    h.replace(h.find("element face 2"), 14, "element face 4");
-    return h + kVertices + "0\n2 0 1\n3 0 1 2\n3 0 2 3\n";
-  }()));
+  c.push_back(mesh_case("ascii_short_faces_dropped",
+                        ascii(kVertices, "0\n2 0 1\n3 0 1 2\n3 0 2 3\n", header_with("face 2", "face 4"))));
   c.push_back(mesh_case("ascii_one_far_vertex", ascii("0 0 0 0 0 0\n1 0 0 0 0 0\n1 1 0 0 0 0\n1e30 1 0 0 0 0\n")));
   // Headers.
   c.push_back(mesh_case("header_no_end", "ply\nformat ascii 1.0\nelement vertex 4\n"));
   c.push_back(mesh_case("header_nul", std::string("ply\nformat ascii 1.0\nelement vertex 4\0\0\0\n", 40) + kVertices));
-  c.push_back(mesh_case("header_hex_count", [] {
-    std::string h = kHeader;
-    h.replace(h.find("vertex 4"), 8, "vertex 0x4");
-    return h + kVertices + kFaces;
-  }()));
-  c.push_back(mesh_case("header_huge_count", [] {
-    std::string h = kHeader;
-    h.replace(h.find("vertex 4"), 8, "vertex 2147483647");
-    return h + kVertices + kFaces;
-  }()));
-  c.push_back(mesh_case("header_too_large_count", [] {
-    std::string h = kHeader;
-    h.replace(h.find("vertex 4"), 8, "vertex 99999999999999");
-    return h + kVertices + kFaces;
-  }()));
-  c.push_back(mesh_case("header_unknown_type", [] {
-    std::string h = kHeader;
-    h.replace(h.find("float vx"), 8, "quad vx");
-    return h + kVertices + kFaces;
-  }()));
+  c.push_back(mesh_case("header_hex_count", ascii(kVertices, kFaces, header_with("vertex 4", "vertex 0x4"))));
+  c.push_back(mesh_case("header_huge_count", ascii(kVertices, kFaces, header_with("vertex 4", "vertex 2147483647"))));
+  c.push_back(
+      mesh_case("header_too_large_count", ascii(kVertices, kFaces, header_with("vertex 4", "vertex 99999999999999"))));
+  c.push_back(mesh_case("header_unknown_type", ascii(kVertices, kFaces, header_with("float vx", "quad vx"))));
   c.push_back(mesh_case("header_no_velocity",
                         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                         "property float y\nproperty float z\nelement face 1\n"
