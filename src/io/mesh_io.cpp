@@ -294,6 +294,7 @@ FrameMesh read_ply(const std::string& path, const std::string& bytes, const Read
 /// later index by one.
 void check_obj_vertices(const std::string& path, const std::string& bytes) {
   std::size_t pos = 0;
+  std::vector<std::string_view> tok;
   for (int line_no = 1; pos < bytes.size(); ++line_no) {
     std::size_t eol = bytes.find('\n', pos);
     if (eol == std::string::npos) eol = bytes.size();
@@ -301,16 +302,11 @@ void check_obj_vertices(const std::string& path, const std::string& bytes) {
     pos = eol + 1;
     while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
     if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
-    std::vector<std::string_view> tok;
-    for (std::size_t a = 1; a < line.size();) {
-      const std::size_t b = line.find_first_of(" \t\r", a);
-      const std::size_t end = b == std::string_view::npos ? line.size() : b;
-      if (end > a) tok.push_back(line.substr(a, end - a));
-      a = end + 1;
-    }
-    const std::string where = "line " + std::to_string(line_no) + " (vertex)";
+    split_tokens(line.substr(1), tok);
+    auto where = [&] { return "line " + std::to_string(line_no) + " (vertex)"; };
     if (tok.size() != 3 && tok.size() != 4 && tok.size() != 6 && tok.size() != 7)
-      throw InputError(path, where + ": " + std::to_string(tok.size()) + " values, expected x y z [w] or x y z r g b");
+      throw InputError(path,
+                       where() + ": " + std::to_string(tok.size()) + " values, expected x y z [w] or x y z r g b");
     for (std::string_view t : tok) ascii_value(path, t, PlyType::Float64, where);
   }
 }

@@ -210,11 +210,25 @@ inline std::size_t check_binary_size(const std::string& path, const PlyHeader& h
   return at;
 }
 
-/// One ASCII token as a value of type `t`: InputError naming `where` for a
-/// token that is not a number of that type, or not finite, or out of range.
-inline double ascii_value(const std::string& path, std::string_view token, PlyType t, const std::string& where) {
+/// The whitespace-separated tokens of `line` into `out` (cleared first; the
+/// caller reuses it from line to line).
+inline void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
+  for (std::size_t a = 0; a < line.size();) {
+    const std::size_t b = line.find_first_of(" \t\r", a);
+    const std::size_t end = b == std::string_view::npos ? line.size() : b;
+    if (end > a) out.push_back(line.substr(a, end - a));
+    a = end + 1;
+  }
+}
+
+/// One ASCII token as a value of type `t`: InputError naming `where()` (only
+/// called on failure) for a token that is not a number of that type, or not
+/// finite, or out of range.
+template <class Where>
+double ascii_value(const std::string& path, std::string_view token, PlyType t, const Where& where) {
   auto fail = [&](const std::string& why) {
-    return InputError(path, where + ": '" + std::string(token.substr(0, 32)) + "' " + why);
+    return InputError(path, where() + ": '" + std::string(token.substr(0, 32)) + "' " + why);
   };
   if (is_float(t)) {
     double v = 0.0;
@@ -248,13 +262,15 @@ inline std::size_t check_ascii_body(const std::string& path, const PlyHeader& h,
   int line_no = 0;
   for (std::size_t e = 0; e <= l.face_element; ++e) {
     const PlyElement& el = h.elements[e];
+    std::vector<std::string_view> tok;
     for (std::size_t i = 0; i < el.count; ++i) {
-      const std::string where = el.name + " " + std::to_string(i);
+      // Messages are built only for a bad line (this loop runs once per element).
+      auto where = [&] { return el.name + " " + std::to_string(i); };
       std::string_view line;
       bool at_end = false;  // the line runs to the end of the file (no newline): a cut file
       do {                  // the next non-blank line
         if (pos >= bytes.size()) {
-          throw InputError(path, "truncated file: the body ends before " + where + " (the header promises " +
+          throw InputError(path, "truncated file: the body ends before " + where() + " (the header promises " +
                                      std::to_string(el.count) + " " + el.name + " lines)");
         }
         std::size_t eol = bytes.find('\n', pos);
@@ -267,17 +283,11 @@ inline std::size_t check_ascii_body(const std::string& path, const PlyHeader& h,
           line.remove_suffix(1);
         while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
       } while (line.empty());
-      std::vector<std::string_view> tok;
-      for (std::size_t a = 0; a < line.size();) {
-        const std::size_t b = line.find_first_of(" \t", a);
-        const std::size_t end = b == std::string_view::npos ? line.size() : b;
-        if (end > a) tok.push_back(line.substr(a, end - a));
-        a = end + 1;
-      }
-      const std::string at = "body line " + std::to_string(line_no) + " (" + where + ")";
+      split_tokens(line, tok);
+      auto at = [&] { return "body line " + std::to_string(line_no) + " (" + where() + ")"; };
       auto short_line = [&](const std::string& what) {
-        if (at_end) return InputError(path, "truncated file: the body ends inside " + where);
-        return InputError(path, at + ": " + what);
+        if (at_end) return InputError(path, "truncated file: the body ends inside " + where());
+        return InputError(path, at() + ": " + what);
       };
       std::size_t k = 0;
       for (const PlyProperty& p : el.properties) {
@@ -291,8 +301,8 @@ inline std::size_t check_ascii_body(const std::string& path, const PlyHeader& h,
         for (std::size_t j = 0; j < n; ++j) ascii_value(path, tok[k++], p.type, at);
       }
       if (k != tok.size()) {
-        throw InputError(path,
-                         at + ": " + std::to_string(tok.size()) + " values on the line, expected " + std::to_string(k));
+        throw InputError(
+            path, at() + ": " + std::to_string(tok.size()) + " values on the line, expected " + std::to_string(k));
       }
     }
   }
