@@ -73,16 +73,17 @@ void apply_job_file(JobOptions& o, const std::string& path, const std::function<
   std::vector<ConfigEntry> entries = read_config_file(path);
   std::vector<OptionRef> table = option_table(o);
   table.insert(table.end(), extra.begin(), extra.end());
-  const auto known = [&](const std::string& name) {
-    return std::any_of(table.begin(), table.end(), [&](const OptionRef& r) { return name == r.info.name; });
+  const auto find = [&](const std::string& name) {
+    return std::find_if(table.begin(), table.end(), [&](const OptionRef& r) { return name == r.info.name; });
   };
   // fluidtex 0.1 wrote its console settings into job.toml, and 0 for an
-  // automatic length.
-  std::erase_if(entries,
-                [&](const ConfigEntry& e) { return (e.name == "verbose" || e.name == "quiet") && !known(e.name); });
+  // automatic option.
+  std::erase_if(entries, [&](const ConfigEntry& e) {
+    return (e.name == "verbose" || e.name == "quiet") && find(e.name) == table.end();
+  });
   for (ConfigEntry& e : entries) {
-    const bool length = e.name == "radius" || e.name == "max-projection" || e.name == "thickness";
-    if (length && e.values == std::vector<std::string>{"0"}) e.values = {"auto"};
+    const auto ref = find(e.name);
+    if (ref != table.end() && ref->automatic && e.values == std::vector<std::string>{"0"}) e.values = {"auto"};
   }
   apply_config(entries, table, path, skip);
 }

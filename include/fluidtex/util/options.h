@@ -89,6 +89,8 @@ struct OptionRef {
   std::function<std::string()> toml;
   /// The value's kind as --help shows it: FLOAT, INT, TEXT, ...
   const char* type = "TEXT";
+  /// The option may be left to fluidtex ("auto": a std::optional field).
+  bool automatic = false;
 };
 
 namespace option_detail {
@@ -121,6 +123,7 @@ OptionRef bind_option(const OptionInfo& info, T& field) {
     ref.set = [&field, name](const std::vector<std::string>& v) { field = d::parse_number(name, d::single(name, v)); };
   } else if constexpr (std::is_same_v<T, std::optional<double>>) {
     ref.type = "FLOAT|auto";
+    ref.automatic = true;
     ref.text = [&field] { return field ? d::format_number(*field) : std::string("auto"); };
     ref.toml = [&field] { return field ? d::format_number(*field) : std::string("\"auto\""); };
     ref.set = [&field, name](const std::vector<std::string>& v) {
