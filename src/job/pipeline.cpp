@@ -184,8 +184,7 @@ class PatchTexturing final : public Texturing {
     fs.extra.emplace_back("patches_removed", step.removed);
     fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
     for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
-    const std::vector<double>& areas = tracker_.surface()->face_areas();
-    fs.extra.emplace_back("surface_area", std::accumulate(areas.begin(), areas.end(), 0.0));
+    fs.extra.emplace_back("surface_area", tracker_.surface()->area());
     failed_ += static_cast<std::size_t>(step.failed);
     if (first) {
       const TrackingOptions& o = tracker_.settings().method;

@@ -320,8 +320,7 @@ FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& 
 /// at which the charts pack into the atlas, and their placements there.
 double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& flat, const AtlasOptions& options,
                     std::vector<Placement>& placement) {
-  double area3 = 0.0;
-  for (double a : surface.face_areas()) area3 += a;
+  const double area3 = surface.area();
   const int n = options.size;
   double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
   for (int iter = 0; iter < 14; ++iter) {  // density to 1/16000 of the 100% bound

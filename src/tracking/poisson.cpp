@@ -53,7 +53,7 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
   };
   std::vector<Keyed> keyed;
   keyed.reserve(static_cast<std::size_t>(
-                    density * std::accumulate(surface.face_areas().begin(), surface.face_areas().end(), 0.0)) +
+                    density * surface.area()) +
                 mesh.positions.size() + 16);
   auto key = [&](std::uint64_t a, std::uint64_t b) {
     return hash_values({seed, static_cast<std::uint64_t>(Stream::CandidateOrder), a, b});

@@ -58,9 +58,7 @@ Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
 void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& o) {
-  double area = 0.0;
-  for (double a : surface.face_areas()) area += a;
-  const double disks = area / (M_PI * o.d() * o.d());
+  const double disks = surface.area() / (M_PI * o.d() * o.d());
   if (disks > static_cast<double>(kMaxDisks)) {
     throw InputError("", "--radius " + option_detail::format_number(o.d()) + " gives about " +
                              std::to_string(std::llround(disks)) + " Poisson disks on the first frame (at most " +

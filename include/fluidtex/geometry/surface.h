@@ -10,6 +10,7 @@
 
 #include <array>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 #include "fluidtex/geometry/mesh.h"
@@ -53,6 +54,8 @@ class SurfaceIndex {
 
   const std::vector<Vec3>& face_normals() const { return face_normals_; }  ///< unit
   const std::vector<double>& face_areas() const { return face_areas_; }
+  /// Total surface area (the face areas summed in face order).
+  double area() const { return std::accumulate(face_areas_.begin(), face_areas_.end(), 0.0); }
   const std::vector<Vec3>& vertex_normals() const { return vertex_normals_; }  ///< unit
   /// Per face, the face across each edge (edge k joins corners k and k+1);
   /// -1 on a boundary edge or a non-manifold edge (more than two faces).
