@@ -31,7 +31,7 @@ run() {  # name scene [run options...]
 for scene in ${SCENES:-slosh drop obstacle}; do
   [[ -d "$data/blender-$scene" ]] || continue
   run "$scene-patches" "$scene"
-  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density
+  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0
   run "$scene-flowmap" "$scene" --method flowmap
 done
 python3 scripts/realdata_tables.py "$out"

@@ -7,7 +7,8 @@ changes as much along the flow as in place); mean and 95th percentile over
 the frame pairs. Flow error: Farneback endpoint error summed over the frame
 pairs whose mean projected speed is under 15 px, over their projected speed
 summed (frames where the liquid barely moves would make a per-frame ratio
-meaningless).
+meaningless). Synthesis s: median seconds of the synthesis stage per frame
+(stats.jsonl).
 """
 import json
 import statistics
@@ -27,8 +28,8 @@ def pct(values, q):
 
 def main(out):
     print("| run | frames | births / live | active share (f > 24) | warping ratio mean | p95 | flow error (< 15 px) | "
-          "uncovered area max | ghosting mean | σ ratio G | D_T p95 | s / frame |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "uncovered area max | ghosting mean | p95 | σ ratio G | spectrum | D_T p95 | synthesis s | s / frame |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for run in sorted(p for p in Path(out).iterdir() if (p / "eval" / "metrics.jsonl").exists()):
         m = lines(run / "eval" / "metrics.jsonl")
         stats = lines(run / "stats.jsonl")
@@ -42,13 +43,15 @@ def main(out):
             v = [r[key] for r in m if r.get(key) is not None]
             return statistics.mean(v) if v else float("nan")
         unc = [r["uncovered_area"] for r in m if r.get("uncovered_area") is not None]
+        synth = [s["seconds"]["synthesis"] for s in stats if "synthesis" in s.get("seconds", {})]
         t = (run.parent / (run.name + ".time"))
         secs = float(t.read_text().split()[-1]) / len(stats) if t.exists() else float("nan")
         f = lambda x: f"{x:.3f}" if x == x else "—"
         print(f"| {run.name} | {len(stats)} | {f(statistics.mean(births)) if births else '—'} | "
               f"{f(statistics.mean(late)) if late else '—'} | {f(statistics.mean(ratio))} | {f(pct(ratio, 0.95))} | "
               f"{f(flow)} | {f'{max(unc):.1e}' if unc else '—'} | {f(mean('ghosting_mean'))} | "
-              f"{f(mean('contrast_g'))} | {f(mean('distortion_p95'))} | {secs:.2f} |")
+              f"{f(mean('ghosting_p95'))} | {f(mean('contrast_g'))} | {f(mean('spectrum_distance'))} | "
+              f"{f(mean('distortion_p95'))} | {f(statistics.median(synth)) if synth else '—'} | {secs:.2f} |")
 
 
 if __name__ == "__main__":

@@ -64,6 +64,7 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   SynthesisOptions synth;
   synth.blend = so.blend;
   synth.method = so.method;
+  synth.weight_cutoff = so.weight_cutoff;
   synth.uv_scale = resolved.uv_scale;
   synth.radius = resolved.d();
   // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of

@@ -30,32 +30,41 @@ bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out
   return true;
 }
 
-/// Per-texel sums, in double so that the fixed summation order is the only
-/// thing that decides the result. A contribution's weight is its core (the
-/// paper's K_S·K_t) plus λ times its coverage tail, λ = 1 − Σcore/ε clamped
-/// to [0, 1] (see SynthesisOptions::radius): core and tail sums are kept
-/// apart and combined once the texel's Σcore is known.
+/// One patch's contribution to a texel, kept until the texel's largest core
+/// weight is known (SynthesisOptions::weight_cutoff).
+struct Contribution {
+  std::uint32_t texel;  // tile-local
+  int patch;
+  Vec2 uv;
+  double core, tail;  // core weight (K_S·K_t) and coverage tail
+};
+
+/// A tile's contributions, in the order they came (per texel: patch order),
+/// with each texel's Σcore and largest core.
 struct Accumulator {
+  std::vector<Contribution> list;
+  std::vector<double> sum_core, max_core;
+  std::vector<int> last_patch;
+  explicit Accumulator(std::size_t n) : sum_core(n, 0.0), max_core(n, 0.0), last_patch(n, -1) {}
+};
+
+/// Per-texel sums of the blended samples, in double so that the fixed
+/// summation order is the only thing that decides the result. A
+/// contribution's weight is its (cut) core plus λ times its coverage tail,
+/// λ = 1 − Σcore/ε clamped to [0, 1] (see SynthesisOptions::radius): core and
+/// tail sums are kept apart and combined once λ is applied.
+struct TexelSums {
   int channels;
   std::vector<double> sum, tail_sum;                                  // channels per texel: Σ core·c, Σ tail·c
   std::vector<double> sum_w, sum_w2, tail_w, tail_w2, cross, best_w;  // Σcore, Σcore², Σtail, Σtail², Σcore·tail
-  std::vector<int> count, tail_count, best_patch, last_patch;
-  Accumulator(std::size_t n, int c)
+  std::vector<int> count, tail_count, best_patch;
+  TexelSums(std::size_t n, int c)
       : channels(c), sum(n * c, 0.0), tail_sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), tail_w(n, 0.0),
-        tail_w2(n, 0.0), cross(n, 0.0), best_w(n, 0.0), count(n, 0), tail_count(n, 0), best_patch(n, -1),
-        last_patch(n, -1) {}
+        tail_w2(n, 0.0), cross(n, 0.0), best_w(n, 0.0), count(n, 0), tail_count(n, 0), best_patch(n, -1) {}
 };
 
-/// A contribution with no core weight: only its tail, blended (and its
-/// exemplar looked up) only if its texel turns out (nearly) bare.
-struct TailOnly {
-  std::size_t texel;  // tile-local
-  int patch;
-  Vec2 uv;
-  double w;
-};
-
-/// Adds patch contributions to a tile's texels (once per patch and texel).
+/// Adds patch contributions to a tile's texels (once per patch and texel)
+/// and blends them.
 struct Contributor {
   const std::vector<Patch>& patches;
   const std::vector<std::vector<float>>& core;  // per patch and vertex: core_weight
@@ -78,50 +87,61 @@ struct Contributor {
     for (int c = 0; c < exemplar.channels(); ++c) centred[c] = blend_term(options.blend, r[c], exemplar.mean()[c]);
   }
 
-  void add(Accumulator& acc, std::vector<TailOnly>& tails, std::size_t i, int patch, const Vec2& uv, double w,
-           double core) const {
+  void add(Accumulator& acc, std::size_t i, int patch, const Vec2& uv, double w, double core) const {
     if (!(w > 0.0) || acc.last_patch[i] == patch) return;
     acc.last_patch[i] = patch;
-    const double tail = std::max(0.0, w - core);
-    if (!(core > 0.0)) {
-      tails.push_back({i, patch, uv, tail});
-      return;
-    }
-    double centred[4] = {0, 0, 0, 0};
-    sample(patch, uv, centred);
-    const int nc = acc.channels;
-    for (int c = 0; c < nc; ++c) {
-      acc.sum[i * nc + c] += core * centred[c];
-      acc.tail_sum[i * nc + c] += tail * centred[c];
-    }
-    acc.sum_w[i] += core;
-    acc.sum_w2[i] += core * core;
-    acc.tail_w[i] += tail;
-    acc.tail_w2[i] += tail * tail;
-    acc.cross[i] += core * tail;
-    ++acc.count[i];
-    if (core > acc.best_w[i]) acc.best_w[i] = core, acc.best_patch[i] = patch;
+    acc.list.push_back({static_cast<std::uint32_t>(i), patch, uv, core, std::max(0.0, w - core)});
+    acc.sum_core[i] += core;
+    acc.max_core[i] = std::max(acc.max_core[i], core);
   }
 
-  /// λ of texel i (1: bare of cores, the tails fill it; 0: the cores alone).
-  double tail_share(const Accumulator& acc, std::size_t i) const {
+  /// λ of a texel with Σcore `sum_core` (1: bare of cores, the tails fill
+  /// it; 0: the cores alone).
+  double tail_share(double sum_core) const {
     const double epsilon = kCoverageTail * options.uv_scale;
-    return std::clamp(1.0 - acc.sum_w[i] / epsilon, 0.0, 1.0);
+    return std::clamp(1.0 - sum_core / epsilon, 0.0, 1.0);
   }
 
-  /// Adds the tail-only contributions of texels with λ > 0, in their order.
-  void add_tails(Accumulator& acc, const std::vector<TailOnly>& tails) const {
-    const int nc = acc.channels;
-    for (const TailOnly& t : tails) {
-      const double lambda = tail_share(acc, t.texel);
+  /// The core weight a texel blends: lowered by the cutoff times the texel's
+  /// largest core, so that a patch enters and leaves a texel continuously.
+  double cut(double core, double max_core) const { return std::max(0.0, core - options.weight_cutoff * max_core); }
+
+  /// Blends the tile's contributions into `s`: every contribution with a
+  /// core (its tail too, for λ), then the tail-only contributions of texels
+  /// with λ > 0, each in the order they came. A sample is looked up only for
+  /// a weight that counts.
+  void blend(const Accumulator& acc, TexelSums& s) const {
+    const int nc = s.channels;
+    double centred[4] = {0, 0, 0, 0};
+    for (const Contribution& k : acc.list) {
+      if (!(k.core > 0.0)) continue;
+      const std::size_t i = k.texel;
+      const double core = cut(k.core, acc.max_core[i]);
+      if (!(core > 0.0) && !(k.tail > 0.0 && tail_share(acc.sum_core[i]) > 0.0)) continue;
+      sample(k.patch, k.uv, centred);
+      for (int c = 0; c < nc; ++c) {
+        s.sum[i * nc + c] += core * centred[c];
+        s.tail_sum[i * nc + c] += k.tail * centred[c];
+      }
+      s.sum_w[i] += core;
+      s.sum_w2[i] += core * core;
+      s.tail_w[i] += k.tail;
+      s.tail_w2[i] += k.tail * k.tail;
+      s.cross[i] += core * k.tail;
+      if (core > 0.0) ++s.count[i];
+      if (core > s.best_w[i]) s.best_w[i] = core, s.best_patch[i] = k.patch;
+    }
+    for (const Contribution& k : acc.list) {
+      if (k.core > 0.0) continue;
+      const std::size_t i = k.texel;
+      const double lambda = tail_share(acc.sum_core[i]);
       if (!(lambda > 0.0)) continue;
-      double centred[4] = {0, 0, 0, 0};
-      sample(t.patch, t.uv, centred);
-      for (int c = 0; c < nc; ++c) acc.tail_sum[t.texel * nc + c] += t.w * centred[c];
-      acc.tail_w[t.texel] += t.w;
-      acc.tail_w2[t.texel] += t.w * t.w;
-      ++acc.tail_count[t.texel];
-      if (lambda * t.w > acc.best_w[t.texel]) acc.best_w[t.texel] = lambda * t.w, acc.best_patch[t.texel] = t.patch;
+      sample(k.patch, k.uv, centred);
+      for (int c = 0; c < nc; ++c) s.tail_sum[i * nc + c] += k.tail * centred[c];
+      s.tail_w[i] += k.tail;
+      s.tail_w2[i] += k.tail * k.tail;
+      ++s.tail_count[i];
+      if (lambda * k.tail > s.best_w[i]) s.best_w[i] = lambda * k.tail, s.best_patch[i] = k.patch;
     }
   }
 };
@@ -265,8 +285,7 @@ struct TriangleBins {
 struct TileSums {
   Rect2i rect;
   Accumulator acc;
-  std::vector<TailOnly> tails;
-  TileSums(const Rect2i& r, int channels) : rect(r), acc(static_cast<std::size_t>(kTile) * kTile, channels) {}
+  explicit TileSums(const Rect2i& r) : rect(r), acc(static_cast<std::size_t>(kTile) * kTile) {}
   /// Tile-local index of atlas texel (x, y).
   std::size_t local(int x, int y) const {
     FLUIDTEX_DCHECK(x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1);
@@ -298,7 +317,7 @@ struct ProjectedHits {
   /// Adds the current patch's hits to the tile's sums and clears them.
   void flush(const Contributor& contribute, TileSums& tile) {
     for (std::size_t j : texels) {
-      contribute.add(tile.acc, tile.tails, j, patch, hit[j].uv, hit[j].w, hit[j].core);
+      contribute.add(tile.acc, j, patch, hit[j].uv, hit[j].w, hit[j].core);
       hit[j] = Hit{};
     }
     texels.clear();
@@ -569,7 +588,7 @@ void Synthesizer::accumulate_located(TileSums& tile) const {
     locator_->locate(s.position, surface_.normal_at(s), hits);
     for (const PatchHit& h : hits) {
       const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
-      contribute_.add(tile.acc, tile.tails, tile.local(x, y), h.patch, h.uv, w, c);
+      contribute_.add(tile.acc, tile.local(x, y), h.patch, h.uv, w, c);
     }
   });
 }
@@ -625,7 +644,7 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
       }
       const Vec2 uv = interpolate(patch.uvs, tri, l);
       const auto [w, c] = contribute_.weights(job.patch, tri, l);
-      contribute_.add(tile.acc, tile.tails, tile.local(x, y), job.patch, uv, w, c);
+      contribute_.add(tile.acc, tile.local(x, y), job.patch, uv, w, c);
     }
   }
 }
@@ -667,6 +686,8 @@ void Synthesizer::resolve_tile(const TileSums& tile, SynthesisResult& result, st
                                Tally& tally) const {
   const int nc = exemplar_.channels();
   const Accumulator& acc = tile.acc;
+  TexelSums s(acc.sum_core.size(), nc);
+  contribute_.blend(acc, s);
   std::vector<double> sum(nc);
   for (int y = tile.rect.y0; y < tile.rect.y1; ++y) {
     for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
@@ -675,15 +696,15 @@ void Synthesizer::resolve_tile(const TileSums& tile, SynthesisResult& result, st
       const std::size_t j = tile.local(x, y);
       ++tally.chart;
       mask[i] = 1;
-      const double lambda = contribute_.tail_share(acc, j);
-      for (int c = 0; c < nc; ++c) sum[c] = acc.sum[j * nc + c] + lambda * acc.tail_sum[j * nc + c];
-      const double sum_w = acc.sum_w[j] + lambda * acc.tail_w[j];
-      const double sum_w2 = acc.sum_w2[j] + 2.0 * lambda * acc.cross[j] + lambda * lambda * acc.tail_w2[j];
+      const double lambda = contribute_.tail_share(acc.sum_core[j]);
+      for (int c = 0; c < nc; ++c) sum[c] = s.sum[j * nc + c] + lambda * s.tail_sum[j * nc + c];
+      const double sum_w = s.sum_w[j] + lambda * s.tail_w[j];
+      const double sum_w2 = s.sum_w2[j] + 2.0 * lambda * s.cross[j] + lambda * lambda * s.tail_w2[j];
       if (options_.aov) {
         result.weight.pixels[i] = static_cast<float>(sum_w);
-        result.count.pixels[i] = static_cast<float>(acc.count[j] + (lambda > 0.0 ? acc.tail_count[j] : 0));
-        if (acc.best_patch[j] >= 0) {
-          const auto rgb = id_color(patches_[acc.best_patch[j]].id);
+        result.count.pixels[i] = static_cast<float>(s.count[j] + (lambda > 0.0 ? s.tail_count[j] : 0));
+        if (s.best_patch[j] >= 0) {
+          const auto rgb = id_color(patches_[s.best_patch[j]].id);
           for (int c = 0; c < 3; ++c) result.patch.pixel(i)[c] = rgb[c] / 255.0f;
         }
       }
@@ -716,12 +737,11 @@ SynthesisResult Synthesizer::run() {
   std::vector<Tally> tally(tile_count);
   tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t index) {
     if (!tile_live[index]) return;
-    TileSums tile(tiles_.rect(index), nc);
+    TileSums tile(tiles_.rect(index));
     if (locator_)
       accumulate_located(tile);
     else
       accumulate_binned(index, tile);
-    contribute_.add_tails(tile.acc, tile.tails);
     resolve_tile(tile, result, mask, tally[index]);
   });
   for (const Tally& t : tally) {

@@ -206,6 +206,48 @@ TEST(Synthesis, CoverageTailBlendsOnlyWhereNoDiskCovers) {
   EXPECT_LT(worst, 1e-5);
 }
 
+/// Two patches over the whole square, one at K_t = 1 and one fading in at
+/// K_t = 0.2: with --weight-cutoff t each blends max(0, core − t·max core),
+/// so the weak one drops out once t ≥ 0.2 and is scaled down before that.
+TEST(Synthesis, WeightCutoffDropsWeakPatchesContinuously) {
+  test::OnePatch scene(128);
+  scene.add(Vec2(0.25, 0.5), 1.0);
+  Patch& weak = scene.add(Vec2(0.7, 0.15), 0.2, 0.8);
+  weak.kt = 0.2;
+  const Exemplar exemplar(make_exemplar("gravel", 64, 3));
+  SynthesisOptions so;
+  so.tile_size = 1.0;
+  so.radius = 1e3;  // core ≈ K_t everywhere, the same radial factor for both
+  so.aov = true;
+  for (const double t : {0.0, 0.1, 0.19, 0.21, 0.5}) {  // not 0.2 itself: K_t is a float
+    SCOPED_TRACE(t);
+    so.weight_cutoff = t;
+    const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+    EXPECT_EQ(r.uncovered_texels, 0u);
+    const double wa = 1.0 - t, wb = std::max(0.0, 0.2 - t);
+    double worst = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
+      if (scene.map.face[i] < 0) continue;
+      ++n;
+      EXPECT_EQ(r.count.pixels[i], wb > 0.0 ? 2.0f : 1.0f);
+      const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+      const double cb = std::cos(0.8), sb = std::sin(0.8);
+      float a[3], b[3];
+      exemplar.sample(0.25 + q.x(), 0.5 + q.y(), a);
+      exemplar.sample(0.7 + cb * q.x() - sb * q.y(), 0.15 + sb * q.x() + cb * q.y(), b);
+      for (int c = 0; c < 3; ++c) {
+        const double m = exemplar.mean()[c];
+        const double expect = std::clamp(
+            (wa * (a[c] - m) + wb * (b[c] - m)) / std::sqrt(wa * wa + wb * wb) + m, 0.0, 1.0);  // Eq. 7
+        worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect));
+      }
+    }
+    ASSERT_GT(n, 5000u);
+    EXPECT_LT(worst, 2e-3);  // the radial factor 1 − |uv|/1e3 differs between the two only through rounding
+  }
+}
+
 TEST(Synthesis, Eq7KeepsMeanAndVarianceOfUncorrelatedPatches) {
   // Four patches with equal weight, far-apart anchors and turned uv: their
   // lookups are uncorrelated. Eq. 7 keeps the exemplar's mean and variance;

@@ -52,6 +52,7 @@ struct OutputOptions {
 struct SynthesisJobOptions {
   AtlasOptions atlas;
   Blend blend = Blend::ContrastPreserving;           ///< --blend
+  double weight_cutoff = 0.1;                        ///< --weight-cutoff (SynthesisOptions::weight_cutoff)
   SynthesisMethod method = SynthesisMethod::Raster;  ///< --synthesis
   std::vector<std::string> aov;                      ///< --aov: weight, count, patch
   bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
@@ -64,6 +65,11 @@ struct SynthesisJobOptions {
     f(OptionInfo{.name = "blend",
                  .help = "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)"},
       o.blend);
+    f(OptionInfo{.name = "weight-cutoff",
+                 .help = "Each texel blends its patches' weights lowered by this fraction of its largest one: "
+                         "fewer, sharper overlaps (0: every overlapping patch, as the paper)",
+                 .bounds = between(0.0, 0.95)},
+      o.weight_cutoff);
     f(OptionInfo{.name = "synthesis",
                  .help = "raster: patch triangles rasterised in atlas space; exact: per-texel projection "
                          "(reference, slow)"},

@@ -55,6 +55,12 @@ struct SynthesisOptions {
   /// no disk reaches and fades out continuously where one does. Must be > 0
   /// (the job sets --radius).
   double radius = 0.0;
+  /// t: a texel blends each patch's core weight lowered by t times the
+  /// texel's largest core weight, max(0, core − t·max core), so patches far
+  /// weaker than the texel's strongest drop out of the blend and the rest
+  /// enter and leave it continuously. 0 blends every overlapping patch (the
+  /// paper). In [0, 1).
+  double weight_cutoff = 0.0;
   double projection_tolerance =
       0;             ///< projection slack (scene units) of Exact and the projected fallback; the job sets mpt
   bool aov = false;  ///< also fill weight / count / patch layers
