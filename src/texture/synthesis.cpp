@@ -44,8 +44,9 @@ struct Contribution {
 struct Accumulator {
   std::vector<Contribution> list;
   std::vector<double> sum_core, max_core;
-  std::vector<int> last_patch;
-  explicit Accumulator(std::size_t n) : sum_core(n, 0.0), max_core(n, 0.0), last_patch(n, -1) {}
+  std::vector<int> last_patch;          // per texel: the patch of its last entry
+  std::vector<std::size_t> last_entry;  // per texel: that entry's index in `list`
+  explicit Accumulator(std::size_t n) : sum_core(n, 0.0), max_core(n, 0.0), last_patch(n, -1), last_entry(n, 0) {}
 };
 
 /// Per-texel sums of the blended samples, in double so that the fixed
@@ -87,11 +88,24 @@ struct Contributor {
     for (int c = 0; c < exemplar.channels(); ++c) centred[c] = blend_term(options.blend, r[c], exemplar.mean()[c]);
   }
 
+  /// A patch contributes once per texel, through the first of its
+  /// triangles over the texel, except that a triangle that brings a core
+  /// weight replaces one that brought only its coverage tail (a border
+  /// triangle, whose vertices carry the tail alone).
   void add(Accumulator& acc, std::size_t i, int patch, const Vec2& uv, double w, double core) const {
-    if (!(w > 0.0) || acc.last_patch[i] == patch) return;
-    acc.last_patch[i] = patch;
-    acc.list.push_back({static_cast<std::uint32_t>(i), patch, uv, core, std::max(0.0, w - core)});
-    acc.sum_core[i] += core;
+    if (!(w > 0.0)) return;
+    const double tail = std::max(0.0, w - core);
+    if (acc.last_patch[i] == patch) {
+      Contribution& k = acc.list[acc.last_entry[i]];
+      if (k.core > 0.0 || !(core > 0.0)) return;
+      acc.sum_core[i] += core;
+      k.uv = uv, k.core = core, k.tail = tail;
+    } else {
+      acc.last_patch[i] = patch;
+      acc.last_entry[i] = acc.list.size();
+      acc.list.push_back({static_cast<std::uint32_t>(i), patch, uv, core, tail});
+      acc.sum_core[i] += core;
+    }
     acc.max_core[i] = std::max(acc.max_core[i], core);
   }
 
@@ -481,7 +495,7 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
   for (int k = 0; k < 3; ++k) {
     for (int corner = 0; corner < 8; ++corner) {
       prism.emplace_back(patch.positions[tri[k]] + ((corner & 1) ? slack : -slack) * tu +
-                      ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance_ : -tolerance_) * tn);
+                         ((corner & 2) ? slack : -slack) * tv + ((corner & 4) ? tolerance_ : -tolerance_) * tn);
     }
   }
   std::vector<Region> regions;

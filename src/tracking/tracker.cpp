@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <numeric>
 #include <optional>
 
 #include <oneapi/tbb/parallel_for.h>
@@ -84,10 +85,18 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     const std::vector<AdvectResult> advected = advect(*surface, dt, report);  // 1
     retire_distorted(*surface, advected, frame, report);                      // 2
   }
-  const std::vector<SurfaceSample> fresh = poisson_update(*surface, frame, report);  // 3
+  std::vector<int> bare_faces;
+  const std::vector<SurfaceSample> fresh = poisson_update(*surface, frame, report, bare_faces);  // 3
   add_patches(*surface, fresh, frame, report);
   fade(report);   // 4
   weigh(report);  // 5
+  if (settings_.coverage_aware) {
+    if (!started_) {
+      bare_faces.resize(surface->mesh().triangles.size());
+      std::iota(bare_faces.begin(), bare_faces.end(), 0);
+    }
+    refill_bare_faces(*surface, std::move(bare_faces), frame, report);  // 6
+  }
 
   std::sort(report.retired.begin(), report.retired.end(),
             [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
@@ -150,7 +159,8 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   patches_ = std::move(kept);
 }
 
-std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, int frame, StepReport& report) {
+std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, int frame, StepReport& report,
+                                                   std::vector<int>& bare_faces) {
   const ScopedStage stage(report.seconds, "poisson");
   const TrackingOptions& o = settings_.method;
   const PoissonParams params = poisson_params(o);
@@ -200,6 +210,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     const std::vector<char> bare = uncovered_faces(surface, coverage);
     for (std::size_t f = 0; f < bare.size(); ++f) {
       if (!bare[f]) continue;
+      bare_faces.push_back(static_cast<int>(f));
       SurfaceSample centroid;
       centroid.point = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
       centroid.normal = surface.normal_at(centroid.point);
@@ -214,6 +225,11 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
 void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
                           StepReport& report) {
   const ScopedStage stage(report.seconds, "patches");
+  build_patches(surface, fresh, frame, report);
+}
+
+void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
+                            StepReport& report) {
   const TrackingOptions& o = settings_.method;
   // Built in parallel; ids are fixed before the loop.
   std::vector<std::optional<Patch>> built(fresh.size());
@@ -232,6 +248,47 @@ void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<Surface
     p->kt = started_ ? 0.0 : 1.0;
     patches_.push_back(std::move(*p));
     ++report.created;
+  }
+}
+
+void Tracker::refill_bare_faces(const SurfaceIndex& surface, std::vector<int> faces, int frame, StepReport& report) {
+  const ScopedStage stage(report.seconds, "refill");
+  const TrackingOptions& o = settings_.method;
+  for (int round = 0; round < kRefillRounds && !faces.empty(); ++round) {
+    const PatchCoverage coverage(patches_, o.mpt());
+    std::vector<SurfaceSample> centroids(faces.size());
+    std::vector<char> bare(faces.size(), 0);
+    parallel_each(faces.size(), [&](std::size_t k) {
+      centroids[k].point = surface.at(faces[k], Vec3::Constant(1.0 / 3.0));
+      centroids[k].normal = surface.normal_at(centroids[k].point);
+      bare[k] = !coverage.covers(centroids[k].point.position, centroids[k].normal);
+    });
+    std::vector<int> still;
+    std::vector<SurfaceSample> candidates;
+    for (std::size_t k = 0; k < faces.size(); ++k) {
+      if (bare[k]) still.push_back(faces[k]), candidates.push_back(centroids[k]);
+    }
+    if (still.empty()) return;
+    // Greedy in face order, the Poisson criterion among themselves only.
+    const std::vector<SurfaceSample> fresh = fill_gaps({}, candidates, surface, poisson_params(o), 0.0);
+    const std::size_t first = patches_.size();
+    build_patches(surface, fresh, frame, report);
+    // The new patches' first frame, as fade() and weigh() gave the others.
+    std::vector<SurfaceSample> all;
+    all.reserve(patches_.size());
+    for (const Patch& p : patches_) all.push_back(p.center);
+    const std::vector<int> rho = disk_density(all, poisson_params(o));
+    for (std::size_t i = first; i < patches_.size(); ++i) {
+      Patch& p = patches_[i];
+      p.density = rho[i];
+      if (started_) {
+        const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion);
+        p.state = r.state, p.kt = r.kt;
+      }
+      update_weights(p, o);
+    }
+    report.refilled += static_cast<int>(patches_.size() - first);
+    faces = std::move(still);
   }
 }
 

@@ -217,7 +217,10 @@ TEST(Weights, Eq4SpatialTimesTemporal) {
   EXPECT_NEAR(p.weight[0], (1 + eps) * 0.5, 1e-7);                                    // centre: K_S = 1
   EXPECT_NEAR(p.weight[1], ((1 - 0.5) + eps * (1 - 0.05 / 0.16)) * 0.5 * 0.5, 1e-7);  // half way, Q_V = 0.5
   EXPECT_EQ(p.weight[2], 0.0f);                                                       // beyond (1 + β)d
-  EXPECT_EQ(p.weight[3], 0.0f);                                                       // border: d_V = 0
+  // Border: d_V = 0 takes the disk's term; the tail stays, so that a patch
+  // the plane test cut short still covers its own surface.
+  EXPECT_NEAR(p.weight[3], eps * (1 - 0.05 / 0.16) * 0.5, 1e-7);
+  EXPECT_EQ(core_weight(p, 3, o.radius.value(), o.uv_scale), 0.0f);  // Eq. 4 alone
 }
 
 // --- Sampling ------------------------------------------------------------------
@@ -414,6 +417,26 @@ TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
       EXPECT_GT(fading_out, 0);
       EXPECT_GT(removed, 0);
     }
+  }
+}
+
+/// Droplets smaller than the disk, as splashes shed them: a pool with three
+/// coarse blobs of radius 0.1–0.3 d above it. The plane test cuts a patch on
+/// such a blob down to a few triangles whose vertices all lie on its border
+/// (d_V = 0: Eq. 4 gives it no weight anywhere); its coverage tail must still
+/// cover the blob, whatever the frame.
+TEST(Tracker, DropletsSmallerThanTheDiskAreCovered) {
+  FrameMesh mesh = test::flat_grid(24, 4.0);
+  test::append(mesh, test::uv_sphere(3, 5, 0.1, Vec3(1.0, 1.0, 0.5)));
+  test::append(mesh, test::uv_sphere(4, 6, 0.2, Vec3(2.0, 2.5, 0.6)));
+  test::append(mesh, test::uv_sphere(3, 4, 0.3, Vec3(3.0, 1.2, 0.8)));
+  TrackerSettings settings;
+  settings.method.radius = 1.0;
+  Tracker t(settings);
+  for (int f = 1; f <= 3; ++f) {
+    t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);
+    const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
+    EXPECT_EQ(uncovered_area_fraction(*t.surface(), coverage), 0.0) << "frame " << f;
   }
 }
 

@@ -115,6 +115,10 @@ RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const T
 /// Weight of the coverage tail (see update_weights).
 constexpr double kCoverageTail = 0.01;
 
+/// The coverage tail at |V_uv − p_uv| = r (see update_weights):
+/// kCoverageTail·max(0, 1 − r/((1 + β)d)).
+double tail_weight(double r, const TrackingOptions& options);
+
 /// The radial term of K_S at |V_uv − p_uv| = r (see update_weights): 1 − r/d
 /// inside the disk plus the coverage tail out to (1 + β)d.
 double radial_weight(double r, const TrackingOptions& options);
@@ -132,7 +136,9 @@ double radial_weight(double r, const TrackingOptions& options);
 /// surface shows their texture rather than a flat hole. Synthesis blends the
 /// tail (w_V − core_weight) only where the core weights leave a point
 /// (nearly) bare (SynthesisOptions::radius), so elsewhere a texel blends
-/// exactly the paper's weights.
+/// exactly the paper's weights. d_V = 0 on the patch border zeroes the core,
+/// not the tail: a patch the plane test cuts down to a few border triangles
+/// (a droplet smaller than the disk) still covers its surface.
 void update_weights(Patch& patch, const TrackingOptions& options);
 
 /// The paper's w_V = K_S(V)·K_t at vertex v of `patch` (Eq. 4 and 2) without

@@ -8,7 +8,9 @@
 ///  3. Poisson update ignoring fading-out disks: kill distance → "fading out
 ///     (too close)", new disks in the gaps, their patches created;
 ///  4. density ρ and K_t (Eq. 6 or 5); fading-out patches at K_t ≤ 0 removed;
-///  5. vertex weights w_V = K_S·K_t.
+///  5. vertex weights w_V = K_S·K_t;
+///  6. coverage safety net: faces still bare get a disk at their centroid
+///     and a patch (refill_bare_faces).
 /// The first frame gets a fresh distribution whose patches start active.
 ///
 /// Parallel (oneTBB) over patches for advection, distortion, creation and
@@ -64,7 +66,8 @@ struct RetiredPatch {
 struct StepReport {
   int frame = 0;
   PatchCounts counts;
-  int created = 0;                    ///< new patches this frame
+  int created = 0;                    ///< new patches this frame (refilled ones included)
+  int refilled = 0;                   ///< of those, made by the coverage safety net (refill_bare_faces)
   int removed = 0;                    ///< patches removed (faded out or lost)
   int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
   int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
@@ -113,8 +116,22 @@ class Tracker {
   std::vector<AdvectResult> advect(const SurfaceIndex& next, double dt, StepReport& report);
   void retire_distorted(const SurfaceIndex& surface, const std::vector<AdvectResult>& advected, int frame,
                         StepReport& report);
-  std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, int frame, StepReport& report);
+  std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, int frame, StepReport& report,
+                                            std::vector<int>& bare_faces);
   void add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame, StepReport& report);
+  void build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
+                     StepReport& report);
+  /// The safety net of coverage, after the frame's patches are made, faded
+  /// and weighed: each of `faces` (those the Poisson update found bare; every
+  /// face on the first frame) that no patch covers yet gets a disk at its
+  /// centroid, chosen greedily in face order with the Poisson criterion among
+  /// themselves, and its patch, which fades in from this frame. A disk that
+  /// lost to a nearer new disk whose patch the plane test cut short, or whose
+  /// patch could not be built, leaves such faces. A patch covers its own
+  /// centre's face (its coverage tail reaches its border), so every round
+  /// covers at least one face; kRefillRounds rounds at most.
+  void refill_bare_faces(const SurfaceIndex& surface, std::vector<int> faces, int frame, StepReport& report);
+  static constexpr int kRefillRounds = 3;
   void fade(StepReport& report);
   void weigh(StepReport& report);
 
