@@ -24,6 +24,7 @@
 #include <thread>
 
 #include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/job/job_options.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
@@ -158,8 +159,10 @@ Case mesh_case(const std::string& name, const std::string& bytes) {
           [bytes](const fs::path& dir) {
             test::write_file(dir / "m.0001.ply", bytes);
             write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
-            return std::vector<std::string>{"run",    "-q", "-i",  "m.####.ply",   "-e",
-                                            "ex.png", "-o", "out", "--atlas-size", "64"};
+            // A radius near the square's size: few, small patches (a good
+            // frame is 2 triangles, each patch a remeshed copy of them).
+            return std::vector<std::string>{"run", "-q",  "-i",           "m.####.ply", "-e",       "ex.png",
+                                            "-o",  "out", "--atlas-size", "64",         "--radius", "0.5"};
           },
           "m.0001.ply"};
 }
@@ -171,9 +174,9 @@ Case obj_case(const std::string& name, const std::string& bytes) {
             test::write_file(dir / "m.0001.obj", bytes);
             test::write_file(dir / "m.0002.obj", bytes);
             write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
-            return std::vector<std::string>{"run", "-q",     "-i", "m.####.obj", "--velocity-from-positions",
-                                            "-e",  "ex.png", "-o", "out",        "--atlas-size",
-                                            "64"};
+            return std::vector<std::string>{"run", "-q",       "-i", "m.####.obj", "--velocity-from-positions",
+                                            "-e",  "ex.png",   "-o", "out",        "--atlas-size",
+                                            "64",  "--radius", "0.5"};
           },
           "m.0001.obj"};
 }
@@ -195,6 +198,71 @@ Case scene_case(const std::string& name, std::vector<std::string> extra, const s
             return args;
           },
           names};
+}
+
+/// The systematic part of the corpus: every field of an ASCII vertex line
+/// with every bad token, binary files cut every 16 bytes and with single
+/// bytes flipped, header variants, and every numeric or named option of
+/// `run` with values of the wrong kind or out of range (the message must
+/// name the option).
+void add_generated_cases(std::vector<Case>& c) {
+  for (int field = 0; field < 6; ++field) {
+    for (const char* token : {"abc", "nan", "inf", "1e999", "", "0 0"}) {
+      std::string line;
+      for (int k = 0; k < 6; ++k) line += (k ? " " : "") + std::string(k == field ? token : "0");
+      c.push_back(mesh_case("ascii_field_" + std::to_string(field) + "_" + (*token ? token : "missing"),
+                            ascii(line + "\n1 0 0 0 0 0\n1 1 0 0 0 0\n0 1 0 0 0 0\n")));
+    }
+  }
+  const std::string good = binary(face_bytes({0, 1, 2}) + face_bytes({0, 2, 3}), 2);
+  const std::size_t body = good.find("end_header\n") + 11;
+  for (std::size_t cut = 8; cut < good.size(); cut += 16)
+    c.push_back(mesh_case("binary_cut_at_" + std::to_string(cut), good.substr(0, cut)));
+  for (std::size_t at = body; at < good.size(); at += 9) {
+    std::string flipped = good;
+    flipped[at] = static_cast<char>(~flipped[at]);
+    c.push_back(mesh_case("binary_flip_" + std::to_string(at), flipped));
+  }
+  const std::pair<const char*, const char*> headers[] = {
+      {"format ascii 1.0", "format ascii 2.0"},
+      {"format ascii 1.0", "format binary_big_endian 1.0"},
+      {"format ascii 1.0", "format xml 1.0"},
+      {"property float x", "property double x"},
+      {"property float x", "property uchar x"},
+      {"property float vz", "property list uchar float vz"},
+      {"property list uchar int", "property list float int"},
+      {"property list uchar int", "property list uchar float"},
+      {"element face 2", "element face 1"},
+      {"element face 2", "element face 3"},
+      {"element vertex 4", "element vertex 3"},
+      {"element vertex 4", "element vertex 5"},
+      {"element vertex 4", "element vertex -4"},
+      {"element face 2", "element edge 0\nelement face 2"},
+      {"end_header", "comment x\nend_header"},
+      {"ply\n", "ply \n"},
+      {"property float y\n", ""},
+      {"property float vx", "property float velocity_x"},
+  };
+  for (const auto& [from, to] : headers) {
+    std::string name = std::string("header_") + to;
+    c.push_back(mesh_case(name.substr(0, 40), ascii(kVertices, kFaces, header_with(from, to))));
+  }
+  // Options: every number and every named choice of the table, wrong.
+  JobOptions defaults;
+  for (const OptionRef& ref : option_table(defaults)) {
+    const std::string name = ref.info.name, opt = "--" + name;
+    std::vector<std::pair<std::string, std::string>> bad;  // (label, value)
+    const std::string type = ref.type;
+    if (type.rfind("FLOAT", 0) == 0)
+      bad = {{"nan", "nan"}, {"overflow", "1e999"}, {"text", "abc"}, {"huge_negative", "-1e300"}};
+    else if (type == "INT")
+      bad = {{"text", "abc"}, {"overflow", "99999999999999999999"}, {"fraction", "1.5"}, {"negative", "-7"}};
+    else if (!ref.choices.empty())
+      bad = {{"unknown", "bogus"}};
+    for (const auto& [label, value] : bad) {
+      c.push_back(scene_case("option_" + name + "_" + label, {opt, value}, opt));
+    }
+  }
 }
 
 std::vector<Case> cases() {
@@ -354,6 +422,7 @@ std::vector<Case> cases() {
   };
   c.push_back(scene_case("state_garbage", {"--resume"}, "patches.0001.bin", state("FTXSTATE\x02\0\0\0garbage")));
   c.push_back(scene_case("state_empty", {"--resume"}, "patches.0001.bin", state("")));
+  add_generated_cases(c);
   c.push_back(scene_case("stale_temporaries_removed", {}, "", [](const fs::path& dir) {
     fs::create_directories(dir / "out");
     test::write_file(dir / "out" / ".atlas.0001.tmp-999999999-3.exr", "half");
