@@ -58,10 +58,11 @@ Tracker::~Tracker() = default;
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
-void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& o) {
-  const double disks = surface.area() / (M_PI * o.d() * o.d());
+void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved) {
+  const double d = resolved.d();
+  const double disks = surface.area() / (M_PI * d * d);
   if (disks > static_cast<double>(kMaxDisks)) {
-    throw InputError("", "--radius " + option_detail::format_number(o.d()) + " gives about " +
+    throw InputError("", "--radius " + option_detail::format_number(d) + " gives about " +
                              std::to_string(std::llround(disks)) + " Poisson disks on the first frame (at most " +
                              std::to_string(kMaxDisks) + "): raise --radius");
   }
