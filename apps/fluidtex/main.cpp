@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/version.h"
 
 int main(int argc, char** argv) {
   std::setlocale(LC_ALL, "C");
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   try {
     app.require_subcommand(1);
-    app.set_version_flag("--version", "fluidtex 0.1.0");
+    app.set_version_flag("--version", fluidtex::version_line());
     fluidtex::cli::add_subcommands(app, exit_code);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -6,6 +6,7 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/strings.h"
+#include "fluidtex/util/version.h"
 
 namespace fluidtex {
 
@@ -65,7 +66,7 @@ std::vector<OptionRef> option_table(JobOptions& o) {
 
 std::string job_toml(const JobOptions& o) {
   JobOptions copy = o;  // the table binds mutable fields
-  return format_toml(option_table(copy));
+  return "# " + version_line() + "\n" + format_toml(option_table(copy));
 }
 
 void apply_job_file(JobOptions& o, const std::string& path, const std::function<bool(const std::string&)>& skip,

@@ -2,10 +2,13 @@
 // error messages and the promise that bad input leaves no output behind.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 
 #include "fluidtex/io/image_io.h"
+#include "fluidtex/job/job_options.h"
 #include "fluidtex/scenes/scenes.h"
+#include "fluidtex/util/version.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -41,6 +44,23 @@ TEST(Cli, HelpAndVersion) {
   EXPECT_NE(out.find("--fade-frames"), std::string::npos);
   EXPECT_NE(out.find("48"), std::string::npos);  // defaults are shown
   EXPECT_EQ(run_fluidtex("--version", &out), 0);
+  EXPECT_EQ(out, version_line() + "\n");
+}
+
+/// --version and every job.toml name the build: the version and, from a git
+/// checkout (this test's source tree is one when .git is there), the commit.
+TEST(Cli, VersionNamesTheBuild) {
+  EXPECT_EQ(std::string(version()), FLUIDTEX_TEST_PROJECT_VERSION);
+  const std::string line = version_line();
+  EXPECT_EQ(line.rfind(std::string("fluidtex ") + version(), 0), 0u) << line;
+  if (std::filesystem::exists(std::filesystem::path(FLUIDTEX_SOURCE_DIR) / ".git")) {
+    const std::string commit = git_commit();
+    ASSERT_GE(commit.size(), 12u) << line;
+    for (std::size_t i = 0; i < 12; ++i) EXPECT_TRUE(std::isxdigit(static_cast<unsigned char>(commit[i]))) << commit;
+    EXPECT_NE(line.find("(git " + commit + ")"), std::string::npos) << line;
+  }
+  JobOptions job;
+  EXPECT_EQ(job_toml(job).rfind("# " + line + "\n", 0), 0u);
 }
 
 TEST(Cli, UnknownOptionIsBadInput) {

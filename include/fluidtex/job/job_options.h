@@ -117,7 +117,8 @@ struct JobOptions {
 /// The job's options bound to `o`, for the command line and config files.
 std::vector<OptionRef> option_table(JobOptions& o);
 
-/// The configuration as TOML: what --print-config prints, and OUT/job.toml.
+/// The configuration as TOML: what --print-config prints, and OUT/job.toml;
+/// its first line, a comment, names the build (version_line()).
 std::string job_toml(const JobOptions& o);
 
 /// Sets the options of `o` (and of `extra`, the caller's own) that the config
