@@ -26,7 +26,6 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/scenes/exemplar_gen.h"
-#include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -186,11 +185,7 @@ Case scene_case(const std::string& name, std::vector<std::string> extra, const s
                 std::function<void(const fs::path&)> prepare = {}) {
   return {name,
           [extra, prepare](const fs::path& dir) {
-            SceneOptions so;
-            so.frames = 3;
-            so.resolution = 10;
-            write_scene("rotation", dir.string(), so);
-            write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
+            test::write_rotation_scene(dir, 3, 10);
             if (prepare) prepare(dir);
             std::vector<std::string> args{"run",    "-q", "-i",  "rotation.####.ply", "-e",
                                           "ex.png", "-o", "out", "--atlas-size",      "64"};
@@ -495,11 +490,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, HostileInput, ::testing::Range<std::size_t>(0, c
 TEST(OutOfMemory, IsOneLineAndExit2) {
   if (kSanitized) GTEST_SKIP() << "ASan replaces the allocator's failure with its own report";
   test::TempDir dir;
-  SceneOptions so;
-  so.frames = 2;
-  so.resolution = 10;
-  write_scene("rotation", dir.str(), so);
-  write_image(dir.file("ex.png"), make_exemplar("gravel", 32, 1));
+  test::write_rotation_scene(dir.path(), 2, 10);
   const Outcome r = run_limited(
       {"run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", "out", "--atlas-size", "32768", "--threads", "1"},
       dir.path(), 60.0, 1ull << 30);
@@ -514,11 +505,8 @@ TEST(OutOfMemory, IsOneLineAndExit2) {
 /// byte-identical to an uninterrupted run, and nothing temporary is left.
 TEST(KillAndResume, GivesTheUninterruptedOutputs) {
   test::TempDir dir;
-  SceneOptions so;
-  so.frames = 6;
-  so.resolution = 16;
-  write_scene("rotation", dir.str(), so);
-  write_image(dir.file("ex.png"), make_exemplar("gravel", 32, 1));
+  const int frames = 6;
+  test::write_rotation_scene(dir.path(), frames, 16);
   auto args = [&](const std::string& out) {
     return std::vector<std::string>{
         "run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", out, "--atlas-size", "128", "--seed", "3"};
@@ -536,7 +524,7 @@ TEST(KillAndResume, GivesTheUninterruptedOutputs) {
     const Outcome resumed = run_limited(resume, dir.path());
     ASSERT_EQ(resumed.code, 0) << resumed.err;
     EXPECT_EQ(temporaries(dir.path() / out), std::vector<std::string>{});
-    for (int f = 1; f <= so.frames; ++f) {
+    for (int f = 1; f <= frames; ++f) {
       for (const std::string pattern : {"atlas.####.exr", "mesh.####.obj", "state/patches.####.bin"}) {
         const std::string name = FramePattern(pattern).path(f);
         EXPECT_EQ(test::read_file(dir.path() / "full" / name), test::read_file(dir.path() / out / name)) << name;

@@ -13,8 +13,6 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "fluidtex/job/pipeline.h"
-#include "fluidtex/scenes/exemplar_gen.h"
-#include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -24,11 +22,7 @@ namespace fs = std::filesystem;
 
 TEST(Golden, SmallRotationAtlasesMatch) {
   test::TempDir dir;
-  SceneOptions so;
-  so.frames = 3;
-  so.resolution = 12;
-  write_scene("rotation", dir.str(), so);
-  write_image(dir.file("gravel.exr"), make_exemplar("gravel", 32, 4));
+  test::write_rotation_scene(dir.path(), 3, 12, "gravel.exr", 32, 4);
   JobOptions job;
   job.input.pattern = dir.file("rotation.####.ply");
   job.exemplar = dir.file("gravel.exr");

@@ -6,8 +6,6 @@
 
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/job/pipeline.h"
-#include "fluidtex/scenes/exemplar_gen.h"
-#include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -58,10 +56,7 @@ TEST(JobOptions, ReadsTheJobTomlOfEarlierVersions) {
 
 TEST(JobOptions, RunJobWritesItsJobToml) {
   test::TempDir dir;
-  SceneOptions so;
-  so.frames = 2;
-  so.resolution = 8;
-  write_scene("rotation", dir.str(), so);
+  test::write_rotation_scene(dir.path(), 2, 8, "");
   JobOptions job;
   job.input.pattern = dir.file("rotation.####.ply");
   job.output.dir = dir.file("out");
@@ -83,11 +78,7 @@ namespace {
 /// behind it are removed again.
 TEST(Pipeline, FrameWhoseStateFailsLeavesNoAtlasOrMesh) {
   test::TempDir dir;
-  SceneOptions so;
-  so.frames = 3;
-  so.resolution = 8;
-  write_scene("rotation", dir.str(), so);
-  write_image(dir.file("ex.png"), make_exemplar("gravel", 16, 1));
+  test::write_rotation_scene(dir.path(), 3, 8, "ex.png", 16);
   JobOptions job;
   job.input.pattern = dir.file("rotation.####.ply");
   job.exemplar = dir.file("ex.png");

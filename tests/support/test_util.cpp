@@ -11,9 +11,22 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "fluidtex/io/image_io.h"
+#include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/scenes/scenes.h"
+
 namespace fluidtex::test {
 
 namespace fs = std::filesystem;
+
+void write_rotation_scene(const fs::path& dir, int frames, int resolution, const std::string& exemplar,
+                          int exemplar_size, std::uint64_t exemplar_seed) {
+  SceneOptions so;
+  so.frames = frames;
+  so.resolution = resolution;
+  write_scene("rotation", dir.string(), so);
+  if (!exemplar.empty()) write_image((dir / exemplar).string(), make_exemplar("gravel", exemplar_size, exemplar_seed));
+}
 
 TempDir::TempDir() {
   static std::atomic<int> counter{0};

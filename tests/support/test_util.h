@@ -1,6 +1,7 @@
 // Helpers shared by the tests.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -30,6 +31,14 @@ std::string read_file(const std::filesystem::path& path);
 
 /// Writes bytes to a file.
 void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+/// A small generated rotation scene in `dir` (`rotation.####.ply`, frames
+/// 1..`frames` at `resolution` cells across) and, unless `exemplar` is empty,
+/// a generated gravel exemplar of `exemplar_size`² pixels (`exemplar_seed`)
+/// as `dir/exemplar`: the input of most end-to-end tests.
+void write_rotation_scene(const std::filesystem::path& dir, int frames, int resolution,
+                          const std::string& exemplar = "ex.png", int exemplar_size = 32,
+                          std::uint64_t exemplar_seed = 1);
 
 /// Runs the fluidtex executable with `args` (shell-quoted by the caller),
 /// capturing stdout+stderr into `output`; returns the exit code.
