@@ -1,6 +1,8 @@
 #include "fluidtex/util/atomic_file.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <fstream>
 #include <system_error>
 
@@ -15,12 +17,57 @@ namespace fluidtex {
 
 namespace fs = std::filesystem;
 
+const std::string& host_name() {
+  static const std::string name = [] {
+    char buf[256] = {};
+    if (::gethostname(buf, sizeof buf - 1) != 0) return std::string("localhost");
+    std::string host(buf);
+    host = host.substr(0, host.find('.'));  // the short name: no '.' in a temporary's tag
+    std::erase_if(host, [](char c) { return c == '-' || c == '/' || c == '\\'; });
+    return host.empty() ? std::string("localhost") : host;
+  }();
+  return name;
+}
+
+namespace {
+
+/// The parts of a temporary's name `.STEM.tmp-PID-N-HOST.EXT`: the target's
+/// file name, the writer's pid and host. False for any other name. Names of
+/// fluidtex 0.1 (`.STEM.tmp-PID-N.EXT`) have an empty host.
+bool parse_temporary(const std::string& name, std::string& target, long& pid, std::string& host) {
+  const std::size_t tag = name.find(".tmp-");
+  if (name.empty() || name[0] != '.' || tag == std::string::npos) return false;
+  const std::size_t dash = name.find('-', tag + 5);
+  if (dash == std::string::npos) return false;
+  try {
+    std::size_t used = 0;
+    const std::string digits = name.substr(tag + 5, dash - tag - 5);
+    pid = std::stol(digits, &used);
+    if (used != digits.size()) return false;
+  } catch (const std::exception&) {
+    return false;
+  }
+  std::size_t end = dash + 1;
+  while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
+  if (end == dash + 1) return false;
+  host.clear();
+  if (end < name.size() && name[end] == '-') {
+    const std::size_t dot = name.find('.', end + 1);
+    host = name.substr(end + 1, dot == std::string::npos ? std::string::npos : dot - end - 1);
+    end = dot == std::string::npos ? name.size() : dot;
+  }
+  target = name.substr(1, tag - 1) + name.substr(end);
+  return true;
+}
+
+}  // namespace
+
 fs::path temporary_sibling(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string name = ".";
   name += target.stem().string();
-  name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + host_name();
   name += target.extension().string();
   return dir / name;
 }
@@ -48,23 +95,20 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   }
 }
 
-std::size_t remove_stale_temporaries(const fs::path& dir) {
+std::size_t remove_stale_temporaries(const fs::path& dir, const std::function<bool(const std::string&)>& owned) {
   std::error_code ec;
   std::size_t removed = 0;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    const std::size_t tag = name.find(".tmp-");
-    if (name.empty() || name[0] != '.' || tag == std::string::npos) continue;
-    const std::size_t dash = name.find('-', tag + 5);
-    if (dash == std::string::npos) continue;
+    std::string target, host;
     long pid = 0;
-    try {
-      pid = std::stol(name.substr(tag + 5, dash - tag - 5));
-    } catch (const std::exception&) {
-      continue;
+    if (!parse_temporary(entry.path().filename().string(), target, pid, host) || pid <= 0) continue;
+    if (!host.empty() && host != host_name()) {
+      // Another machine's writer cannot be asked whether it still runs: its
+      // temporaries go only when the caller owns their target.
+      if (!owned || !owned(target)) continue;
+    } else if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM) {
+      continue;  // a live writer (another job in the same folder, or this one) keeps its files
     }
-    // A live writer (another job in the same folder, or this one) keeps its files.
-    if (pid <= 0 || (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
     std::error_code rm;
     if (fs::remove(entry.path(), rm)) ++removed;
   }

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <unistd.h>
+
 #include "fluidtex/util/atomic_file.h"
 #include "test_util.h"
 
@@ -44,6 +46,29 @@ TEST(AtomicFile, AFailedWriteKeepsTheOldFileAndLeavesNoTemporary) {
   EXPECT_EQ(test::read_file(target), "old");
   EXPECT_EQ(test::list_dir(dir.path()), std::vector<std::string>{"out.exr"});
   EXPECT_NE(temporary_sibling(target), temporary_sibling(target));  // unique names
+}
+
+TEST(AtomicFile, StaleTemporariesOfThisMachineGoAndOtherMachinesOnlyWhenOwned) {
+  test::TempDir dir;
+  const std::string dead = "999999999";  // above any pid Linux hands out
+  const std::string live = std::to_string(::getpid());
+  // The name temporary_sibling gives carries this machine's host.
+  const std::string own = temporary_sibling(dir.path() / "atlas.0001.exr").filename().string();
+  EXPECT_NE(own.find("-" + host_name() + ".exr"), std::string::npos) << own;
+  const std::vector<std::string> names = {
+      ".atlas.0001.tmp-" + dead + "-0-" + host_name() + ".exr",  // this machine, writer gone
+      ".atlas.0002.tmp-" + live + "-0-" + host_name() + ".exr",  // this machine, writer alive
+      ".atlas.0003.tmp-" + dead + "-4.exr",                      // fluidtex 0.1 name: this machine
+      ".atlas.0004.tmp-" + dead + "-0-othernode.exr",            // another machine
+      ".atlas.0005.tmp-" + dead + "-0-othernode.exr",            // another machine, target owned
+      ".job.tmp-x-1.toml",                                       // not a temporary's name
+      "atlas.0001.exr"};
+  for (const std::string& n : names) test::write_file(dir.path() / n, "x");
+  const auto owned = [](const std::string& target) { return target == "atlas.0005.exr"; };
+  EXPECT_EQ(remove_stale_temporaries(dir.path(), owned), 3u);
+  EXPECT_EQ(test::list_dir(dir.path()), (std::vector<std::string>{".atlas.0002.tmp-" + live + "-0-" + host_name() + ".exr",
+                                                                   ".atlas.0004.tmp-" + dead + "-0-othernode.exr",
+                                                                   ".job.tmp-x-1.toml", "atlas.0001.exr"}));
 }
 
 }  // namespace

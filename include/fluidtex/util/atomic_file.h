@@ -10,8 +10,13 @@
 
 namespace fluidtex {
 
+/// This machine's short host name as temporaries are tagged with it (no '.'
+/// or '-').
+const std::string& host_name();
+
 /// A temporary path next to `target` whose extension is kept (image writers
-/// pick the format from it): `dir/.name.tmp-<pid>-<n>.ext`.
+/// pick the format from it): `dir/.STEM.tmp-<pid>-<n>-<host>.EXT`. The host
+/// tells apart writers of different machines sharing the folder (a farm).
 std::filesystem::path temporary_sibling(const std::filesystem::path& target);
 
 /// Creates `target`'s parent folders, calls `write(tmp)` to write the whole
@@ -26,9 +31,12 @@ void write_atomically(const std::filesystem::path& target,
 void write_text_atomically(const std::filesystem::path& target, const std::string& text);
 
 /// Removes the temporaries a killed run left in `dir` (not recursive):
-/// `.NAME.tmp-PID-N.EXT` files whose writer process is gone. Returns how
-/// many were removed.
-std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
+/// those of this machine whose writer process is gone, and those of another
+/// machine whose target file name (`NAME.EXT`) `owned` accepts (the caller
+/// writes that file; the other machine's writer cannot be asked whether it
+/// still runs). Returns how many were removed.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir,
+                                     const std::function<bool(const std::string&)>& owned = {});
 
 /// InputError("PATH: <what> is ...") unless `path` is a regular file (or a
 /// link to one): missing, a dangling link, a link loop, a folder, a FIFO, a
