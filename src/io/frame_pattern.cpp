@@ -170,4 +170,30 @@ std::vector<int> parse_frame_range(const std::string& text) {
   return {frames.begin(), frames.end()};
 }
 
+std::string format_frame_range(const std::vector<int>& frames) {
+  std::string text;
+  std::size_t i = 0;
+  while (i < frames.size()) {
+    // The longest run of a constant step from frames[i] (a lone frame when
+    // the next step differs from the one after it).
+    std::size_t j = i + 1;
+    if (j < frames.size()) {
+      const long long step = static_cast<long long>(frames[j]) - frames[i];
+      while (j + 1 < frames.size() && static_cast<long long>(frames[j + 1]) - frames[j] == step) ++j;
+      if (j == i + 1 && step != 1) j = i;  // two frames with a gap: written as two items
+    } else {
+      j = i;
+    }
+    if (!text.empty()) text += ',';
+    text += std::to_string(frames[i]);
+    if (j > i) {
+      text += '-' + std::to_string(frames[j]);
+      const long long step = static_cast<long long>(frames[i + 1]) - frames[i];
+      if (step != 1) text += 'x' + std::to_string(step);
+    }
+    i = j + 1;
+  }
+  return text;
+}
+
 }  // namespace fluidtex

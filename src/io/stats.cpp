@@ -77,6 +77,12 @@ bool frame_of_line(const std::string& line, int* frame) {
 
 }  // namespace
 
+std::string json_string(const std::string& text) {
+  std::string out;
+  append_escaped(out, text);
+  return out;
+}
+
 std::string to_json_object(const std::vector<std::pair<std::string, double>>& values) {
   std::string out = "{";
   for (std::size_t k = 0; k < values.size(); ++k) {

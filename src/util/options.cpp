@@ -150,7 +150,7 @@ std::string format_toml(const std::vector<OptionRef>& options) {
   return out.str();
 }
 
-std::vector<ConfigEntry> read_config_file(const std::string& path) {
+std::vector<ConfigEntry> read_config_file(const std::string& path, const std::string& table) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot read config file");
   // CLI11 2.1 cuts a value at the first '#' even inside quotes
@@ -185,7 +185,8 @@ std::vector<ConfigEntry> read_config_file(const std::string& path) {
   std::vector<ConfigEntry> entries;
   for (const CLI::ConfigItem& item : items) {
     if (item.name == "++" || item.name == "--") continue;  // section markers
-    if (!item.parents.empty() && !(item.parents.size() == 1 && item.parents[0] == "run")) continue;
+    const bool top = item.parents.empty() && table == "run";
+    if (!top && !(item.parents.size() == 1 && item.parents[0] == table)) continue;
     entries.push_back({item.name, item.inputs});
   }
   return entries;

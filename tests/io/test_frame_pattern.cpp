@@ -72,6 +72,19 @@ TEST(FrameRange, Ranges) {
   EXPECT_EQ(parse_frame_range("-2-1"), (std::vector<int>{-2, -1, 0, 1}));
 }
 
+TEST(FrameRange, FormatsWhatItParses) {
+  EXPECT_EQ(format_frame_range({}), "");
+  EXPECT_EQ(format_frame_range({7}), "7");
+  EXPECT_EQ(format_frame_range({1, 2, 3, 4}), "1-4");
+  EXPECT_EQ(format_frame_range({1, 3, 5, 7}), "1-7x2");
+  EXPECT_EQ(format_frame_range({1, 3}), "1,3");
+  EXPECT_EQ(format_frame_range({-2, -1, 0}), "-2-0");
+  for (const char* text : {"1-48", "1-3,10-14x2", "5,9,20-30x5", "-4-4x4,100", "1,2,4,8,16"}) {
+    const std::vector<int> frames = parse_frame_range(text);
+    EXPECT_EQ(parse_frame_range(format_frame_range(frames)), frames) << text;
+  }
+}
+
 TEST(FrameRange, RejectsMalformed) {
   for (const char* bad : {"", "a-b", "5-1", "1-10x0", "1-10x-2", "1-", "1,,2", "1-10y2", "3.5"}) {
     EXPECT_THROW(parse_frame_range(bad), InputError) << bad;

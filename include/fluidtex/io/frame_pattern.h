@@ -47,4 +47,9 @@ class FramePattern {
 /// kMaxFrames frames. Ascending, without duplicates.
 std::vector<int> parse_frame_range(const std::string& text);
 
+/// The shortest text parse_frame_range reads back as `frames` (ascending,
+/// without duplicates): runs of a constant step as `A-B` or `A-BxS`, joined
+/// by commas ("1-48", "1-47x2", "1-10,12,20-30x5"); empty for no frames.
+std::string format_frame_range(const std::vector<int>& frames);
+
 }  // namespace fluidtex

@@ -40,6 +40,9 @@ struct FrameStats {
 /// null; keys are JSON-escaped.
 std::string to_json_line(const FrameStats& stats);
 
+/// `text` as a JSON string: quoted, escaped (UTF-8 passes through).
+std::string json_string(const std::string& text);
+
 /// A flat JSON object of numbers, keys in the given order, formatted as
 /// to_json_line formats them (non-finite numbers as null).
 std::string to_json_object(const std::vector<std::pair<std::string, double>>& values);

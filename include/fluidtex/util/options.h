@@ -186,9 +186,10 @@ struct ConfigEntry {
   std::string name;
   std::vector<std::string> values;
 };
-/// The entries of a TOML config file (top level and `[run]`), in file order.
-/// InputError naming the file when it cannot be read or is not TOML.
-std::vector<ConfigEntry> read_config_file(const std::string& path);
+/// The entries of a TOML config file in `table` (for "run": the top level
+/// and `[run]`; other tables are skipped), in file order. InputError naming
+/// the file when it cannot be read or is not TOML.
+std::vector<ConfigEntry> read_config_file(const std::string& path, const std::string& table = "run");
 
 /// Applies `entries` to the options of `table` for which `skip(name)` is
 /// false (the command line's own values win). InputError naming `path` for a
