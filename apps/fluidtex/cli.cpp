@@ -22,8 +22,10 @@
 #include "fluidtex/inspect/render.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/io/stats.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/job/pipeline.h"
+#include "fluidtex/job/synth_job.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/tracker.h"
@@ -33,31 +35,61 @@ namespace fluidtex::cli {
 
 namespace {
 
-/// Messages on stderr; a single refreshing progress line when stderr is a
-/// terminal (never in logs, never with -q).
-class TerminalReporter : public Reporter {
+/// How messages reach stderr: plain lines, or one JSON object per line
+/// (--log-format json) for farm log collectors.
+enum class LogFormat { Text, Json };
+inline constexpr EnumName<LogFormat> kLogFormatNames[] = {{LogFormat::Text, "text"}, {LogFormat::Json, "json"}};
+constexpr const auto& enum_names(LogFormat) { return kLogFormatNames; }
+
+/// The format of the error line main() prints (set by the command's options).
+LogFormat error_format = LogFormat::Text;
+
+std::string json_event(const char* event, const std::string& fields) {
+  return std::string("{\"event\":\"") + event + "\"" + fields + "}";
+}
+
+/// Messages on stderr. On a terminal, a single refreshing progress line;
+/// off a terminal (a farm log) or with --log-format json, one line per
+/// finished frame instead. -q keeps warnings (and errors) only.
+class ConsoleReporter : public Reporter {
  public:
-  TerminalReporter(int verbosity, bool quiet)
-      : verbosity_(verbosity), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0),
+  ConsoleReporter(int verbosity, bool quiet, LogFormat format)
+      : verbosity_(verbosity), quiet_(quiet), format_(format), tty_(::isatty(STDERR_FILENO) != 0),
         start_(std::chrono::steady_clock::now()) {}
-  ~TerminalReporter() override { clear_line(); }
+  ~ConsoleReporter() override { clear_line(); }
 
   // Pipeline stages call from several threads.
   void info(const std::string& m) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!quiet_) print(m);
+    if (!quiet_) message("info", m);
   }
   void verbose(const std::string& m) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!quiet_ && verbosity_ > 0) print(m);
+    if (!quiet_ && verbosity_ > 0) message("verbose", m);
   }
   void warn(const std::string& m) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    print("warning: " + m);
+    message("warning", m);
+  }
+  void frame_done(const FrameReport& r) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (quiet_ || (tty_ && format_ == LogFormat::Text && verbosity_ == 0)) return;
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.3f", r.seconds);
+    if (format_ == LogFormat::Json) {
+      std::string fields = ",\"step\":\"" + std::string(r.step) + "\",\"frame\":" + std::to_string(r.frame) +
+                           ",\"seconds\":" + seconds;
+      if (r.patches >= 0) fields += ",\"patches\":" + std::to_string(r.patches);
+      print(json_event("frame", fields));
+      return;
+    }
+    std::string line = r.step + std::string(" frame ") + std::to_string(r.frame) + ": " + seconds + " s";
+    if (r.patches >= 0) line += ", " + std::to_string(r.patches) + " patches";
+    print(line);
   }
   void progress(std::size_t done, std::size_t total, const std::string& stage) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (quiet_ || !tty_ || total == 0) return;
+    if (quiet_ || !tty_ || format_ != LogFormat::Text || total == 0) return;
     const auto now = std::chrono::steady_clock::now();
     if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
     last_ = now;
@@ -85,16 +117,42 @@ class TerminalReporter : public Reporter {
     if (line_shown_) std::fputs("\r\033[K", stderr);
     line_shown_ = false;
   }
+  void message(const char* level, const std::string& m) {
+    if (format_ == LogFormat::Json)
+      print(json_event(level, ",\"message\":" + json_string(m)));
+    else
+      print(std::string(level) == "warning" ? "warning: " + m : m);
+  }
   void print(const std::string& m) {
     clear_line();
     std::fprintf(stderr, "%s\n", m.c_str());
+    std::fflush(stderr);
   }
   std::mutex mutex_;
   int verbosity_;
   bool quiet_;
+  LogFormat format_;
   bool tty_;
   bool line_shown_ = false;
   std::chrono::steady_clock::time_point start_, last_{};
+};
+
+/// The console options of the commands a farm runs: -v, -q, --log-format.
+struct ConsoleArgs {
+  bool verbose = false;
+  bool quiet = false;
+  LogFormat log_format = LogFormat::Text;
+  std::vector<OptionRef> options() {
+    return {bind_option({.name = "verbose", .help = "More detail on stderr", .alias = "-v"}, verbose),
+            bind_option({.name = "quiet", .help = "Only warnings and errors", .alias = "-q"}, quiet),
+            bind_option({.name = "log-format",
+                         .help = "text, or json: one JSON object per line on stderr (frames, messages, the error)"},
+                        log_format)};
+  }
+  ConsoleReporter reporter() const {
+    error_format = log_format;
+    return ConsoleReporter(verbose ? 1 : 0, quiet, log_format);
+  }
 };
 
 /// A library option (util/options.h) on the command line: its flags, help,
@@ -145,22 +203,16 @@ std::unique_ptr<tbb::global_control> limit_threads(int threads) {
 
 struct RunArgs {
   JobOptions job;
-  bool verbose = false;
-  bool quiet = false;
+  ConsoleArgs console;
   bool print_config = false;
   std::string config;
-  /// The console options a config file may set too.
-  std::vector<OptionRef> console() {
-    return {bind_option({.name = "verbose", .help = "More detail on stderr", .alias = "-v"}, verbose),
-            bind_option({.name = "quiet", .help = "Only warnings and errors", .alias = "-q"}, quiet)};
-  }
 };
 
 /// The options of `run`: the job's table (job/job_options.h), then the
 /// console and config options of the command line.
 void define_run_options(CLI::App* run, const std::shared_ptr<RunArgs>& args) {
   for (const OptionRef& ref : option_table(args->job)) add_table_option(run, ref);
-  for (const OptionRef& ref : args->console()) add_table_option(run, ref);
+  for (const OptionRef& ref : args->console.options()) add_table_option(run, ref);
   run->add_option("--config", args->config,
                   "Read options from a TOML file (see --print-config); options given on the command line win");
   run->add_flag("--print-config", args->print_config, "Print the effective configuration as TOML and exit");
@@ -178,18 +230,49 @@ void add_run(CLI::App& app, int& exit_code) {
         const CLI::Option* op = run->get_option_no_throw("--" + name);
         return op != nullptr && op->count() > 0;
       };
-      apply_job_file(args->job, args->config, given, args->console());
+      apply_job_file(args->job, args->config, given, args->console.options());
     }
     if (args->print_config) {
       std::cout << job_toml(args->job);
       exit_code = 0;
       return;
     }
-    TerminalReporter reporter(args->verbose ? 1 : 0, args->quiet);
+    ConsoleReporter reporter = args->console.reporter();
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);
     reporter.info("fluidtex: " + std::to_string(summary.frames) + " frames in " + std::to_string(summary.seconds) +
                   " s");
+    exit_code = 0;
+  });
+}
+
+void add_synth(CLI::App& app, int& exit_code) {
+  struct SynthArgs {
+    SynthRequest request;
+    ConsoleArgs console;
+    int threads = 0;
+  };
+  auto args = std::make_shared<SynthArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "synth",
+      "Texture frames of a tracked job (run --track-only) from its states: atlases and UV meshes identical to "
+      "fluidtex run's; any number of synth steps may texture different frames at once");
+  cmd->add_option("-o,--output", args->request.dir, "The job's output folder (with job.toml and state/)")
+      ->required();
+  cmd->add_option("--frames", args->request.frames, "Frames to texture, e.g. 7-12 (default: all of the job's)");
+  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--prune-state", args->request.prune_state,
+                "Remove the textured frames' states once all are written (the job's last state stays, for "
+                "run --resume)");
+  for (const OptionRef& ref : args->console.options()) add_table_option(cmd, ref);
+  cmd->callback([args, &exit_code]() {
+    ConsoleReporter reporter = args->console.reporter();
+    const auto threads = limit_threads(args->threads);
+    const JobSummary summary = synth_job(args->request, reporter);
+    reporter.info("fluidtex synth: " + std::to_string(summary.frames) + " frames in " +
+                  std::to_string(summary.seconds) + " s");
     exit_code = 0;
   });
 }
@@ -379,7 +462,7 @@ void add_eval(CLI::App& app, int& exit_code) {
     if (!frames.empty()) options.input.frames = frames;
     options.render.view = parse_enum<View>(args->view, "view");
     options.render.width = 384;
-    TerminalReporter reporter(args->verbosity, args->quiet);
+    ConsoleReporter reporter(args->verbosity, args->quiet, LogFormat::Text);
     const auto threads = limit_threads(args->threads);
     const EvalSummary summary = run_eval(options, job, reporter);
     reporter.info("fluidtex eval: " + std::to_string(summary.frames) + " frames; report: " + summary.report);
@@ -389,10 +472,21 @@ void add_eval(CLI::App& app, int& exit_code) {
 
 }  // namespace
 
+void print_error(const std::string& message, bool internal) {
+  if (error_format == LogFormat::Json) {
+    const std::string line = json_event("error", std::string(",\"internal\":") + (internal ? "true" : "false") +
+                                                     ",\"message\":" + json_string(message));
+    std::fprintf(stderr, "%s\n", line.c_str());
+  } else {
+    std::fprintf(stderr, "fluidtex: %s: %s\n", internal ? "internal error" : "error", message.c_str());
+  }
+}
+
 void add_subcommands(CLI::App& app, int& exit_code) {
   add_preview(app, exit_code);
   add_eval(app, exit_code);
   add_run(app, exit_code);
+  add_synth(app, exit_code);
   add_info(app, exit_code);
   add_gen(app, exit_code);
 }

@@ -6,8 +6,13 @@
 
 namespace fluidtex::cli {
 
-/// Adds the run / info / gen subcommands to `app`. Each subcommand's callback
-/// stores the exit code in `exit_code`.
+/// Adds the subcommands to `app`. Each subcommand's callback stores the exit
+/// code in `exit_code`.
 void add_subcommands(CLI::App& app, int& exit_code);
+
+/// Prints the one line of a failed command on stderr: "fluidtex: error:
+/// MESSAGE" (`internal`: "fluidtex: internal error: ..."), or a JSON object
+/// {"event":"error","internal":false,"message":...} after --log-format json.
+void print_error(const std::string& message, bool internal = false);
 
 }  // namespace fluidtex::cli

@@ -1,6 +1,7 @@
 // fluidtex: temporally coherent texture on the free surface of fluid
 // simulations (Gagnon et al. 2019). Exit codes: 0 success, 2 bad input
-// (including bad options) or out of memory, 1 internal failure.
+// (including bad options, a job that cannot be continued as recorded) or out
+// of memory, 1 internal failure.
 #include <clocale>
 #include <cstdio>
 #include <exception>
@@ -30,16 +31,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fluidtex: error: %s (see --help)\n", e.what());
     return 2;
   } catch (const fluidtex::InputError& e) {
-    std::fprintf(stderr, "fluidtex: error: %s\n", e.what());
+    fluidtex::cli::print_error(e.what());
     return 2;
   } catch (const std::bad_alloc&) {
     // Input sizes are bounded where they are read, so this is the job's size
     // against the machine's (or the farm slot's) memory: the user can fix it.
-    std::fprintf(stderr,
-                 "fluidtex: error: out of memory: lower --atlas-size or --threads, or give the job more memory\n");
+    fluidtex::cli::print_error("out of memory: lower --atlas-size or --threads, or give the job more memory");
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "fluidtex: internal error: %s\n", e.what());
+    fluidtex::cli::print_error(e.what(), true);
     return 1;
   }
   return exit_code;

@@ -55,6 +55,10 @@ void JobOptions::validate() const {
     if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");
     if (output.debug_views) throw InputError("", "--debug-views: --method flowmap has no patches or disks to show");
   }
+  if (output.resume && output.force) throw InputError("", "--force: replaces the job that --resume would continue");
+  if (synthesis.track_only && output.keep_state == KeepState::Last) {
+    throw InputError("", "--keep-state last: a tracking step (--track-only) keeps every state for fluidtex synth");
+  }
 }
 
 std::vector<OptionRef> option_table(JobOptions& o) {

@@ -15,6 +15,7 @@
 #include "fluidtex/io/stats.h"
 #include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/debug_views.h"
+#include "fluidtex/job/job_record.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
@@ -32,9 +33,9 @@ void remove_frame_outputs(const JobOptions& options, int frame) {
     std::filesystem::remove(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), ec);
 }
 
-std::string state_path(const std::string& dir, int frame) {
-  return FramePattern(dir + "/state/patches.####.bin").path(frame);
-}
+std::string state_pattern(const std::string& dir) { return dir + "/state/patches.####.bin"; }
+
+std::string state_path(const std::string& dir, int frame) { return FramePattern(state_pattern(dir)).path(frame); }
 
 Exemplar load_exemplar(const std::string& path, bool displacement) {
   Image image = read_image(path);
@@ -137,6 +138,18 @@ void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& f
   });
 }
 
+std::shared_ptr<const FrameMesh> read_frame_mesh(const Sequence& sequence, std::size_t index, FrameStats& stats,
+                                                 Reporter& reporter) {
+  stats.frame = sequence.frames()[index];
+  const ScopedStage stage(stats.seconds, "read");
+  CleanReport cleaned;
+  auto mesh = std::make_shared<const FrameMesh>(sequence.load(index, &cleaned));
+  if (cleaned.changed()) reporter.verbose(sequence.path_of(stats.frame) + ": " + cleaned.summary());
+  stats.vertices = mesh->num_vertices();
+  stats.faces = mesh->num_faces();
+  return mesh;
+}
+
 namespace {
 
 /// One frame in the pipeline: what reading, tracking and texturing leave for
@@ -145,6 +158,7 @@ namespace {
 struct Work {
   std::size_t index = 0;
   int frame = 0;
+  Clock::time_point started = Clock::now();
   std::shared_ptr<const FrameMesh> mesh;
   FrameStats stats;
   std::shared_ptr<const SurfaceIndex> surface;
@@ -172,9 +186,10 @@ class Texturing {
 /// the coverage measure); the state file goes last.
 class PatchTexturing final : public Texturing {
  public:
-  PatchTexturing(Tracker tracker, const JobOptions& options, const Exemplar* exemplar)
-      : tracker_(std::move(tracker)), options_(options), exemplar_(exemplar), write_state_(options.output.write_state) {
-  }
+  /// `resumed_state`: the state file the tracker was loaded from (empty when fresh).
+  PatchTexturing(Tracker tracker, const JobOptions& options, const Exemplar* exemplar, std::string resumed_state)
+      : tracker_(std::move(tracker)), options_(options), exemplar_(exemplar), write_state_(options.output.write_state),
+        last_state_(std::move(resumed_state)) {}
 
   void track(Work& work, double dt, bool first, Reporter& reporter) override {
     const StepReport step = tracker_.step(work.mesh, work.frame, dt);
@@ -214,7 +229,15 @@ class PatchTexturing final : public Texturing {
   void finish(Work& work) const override {
     // The state goes last: its presence means the frame is complete (--resume).
     const ScopedStage stage(work.stats.seconds, "state");
-    if (write_state_) write_text_atomically(state_path(options_.output.dir, work.frame), work.state);
+    if (!write_state_) return;
+    const std::string path = state_path(options_.output.dir, work.frame);
+    write_text_atomically(path, work.state);
+    // --keep-state last: the previous state goes once the new one is in place.
+    if (options_.output.keep_state == KeepState::Last && !last_state_.empty() && last_state_ != path) {
+      std::error_code ignored;
+      std::filesystem::remove(last_state_, ignored);
+    }
+    last_state_ = path;
   }
 
   std::size_t failed() const override { return failed_; }
@@ -231,6 +254,7 @@ class PatchTexturing final : public Texturing {
   const JobOptions& options_;
   const Exemplar* exemplar_;
   bool write_state_;
+  mutable std::string last_state_;  // finish() runs serially, in frame order
   std::size_t failed_ = 0;
 };
 
@@ -278,7 +302,7 @@ class FlowMapTexturing final : public Texturing {
 /// The patch method's tracker: from the newest state in OUT with --resume
 /// (its frame index + 1 in `first`, its frame in `summary`), else fresh.
 Tracker start_tracker(const JobOptions& options, const Sequence& sequence, Reporter& reporter, std::size_t& first,
-                      JobSummary& summary) {
+                      JobSummary& summary, std::string& resumed_state) {
   if (options.output.resume) {
     // The newest state whose frame is in the sequence: every output of that
     // frame was written before it (the state is written last).
@@ -290,6 +314,7 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, Repor
       first = i + 1;
       summary.resumed_after = sequence.frames()[i];
       reporter.info("resuming after frame " + std::to_string(summary.resumed_after) + " (" + path + ")");
+      resumed_state = path;
       return tracker;
     }
     reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
@@ -309,32 +334,45 @@ std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, co
   auto work = std::make_shared<Work>();
   work->index = index;
   work->frame = sequence.frames()[index];
-  work->stats.frame = work->frame;
   work->stats.method = to_string(options.method);
-  const ScopedStage stage(work->stats.seconds, "read");
-  CleanReport cleaned;
-  work->mesh = std::make_shared<const FrameMesh>(sequence.load(index, &cleaned));
-  if (cleaned.changed()) reporter.verbose(sequence.path_of(work->frame) + ": " + cleaned.summary());
-  work->stats.vertices = work->mesh->num_vertices();
-  work->stats.faces = work->mesh->num_faces();
+  work->mesh = read_frame_mesh(sequence, index, work->stats, reporter);
   return work;
 }
 
 }  // namespace
 
-namespace {
-
-/// Removes the temporaries a killed run left in the output folders (its
-/// atomic writes never renamed).
-void remove_interrupted_temporaries(const JobOptions& options, Reporter& reporter) {
+std::size_t remove_interrupted_temporaries(const JobOptions& options,
+                                           const std::function<bool(const std::string&)>& owned) {
   namespace fs = std::filesystem;
   const fs::path out(options.output.dir);
   std::size_t stale = 0;
-  for (const fs::path& dir : {out, out / "state", out / "aov", fs::path(options.output.atlas()).parent_path(),
+  for (const fs::path& dir : {out, out / "state", out / "aov", out / "stats", fs::path(options.output.atlas()).parent_path(),
                               fs::path(options.output.mesh()).parent_path()}) {
-    stale += remove_stale_temporaries(dir.empty() ? "." : dir);
+    stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
   }
-  if (stale > 0) reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
+  return stale;
+}
+
+namespace {
+
+/// The job record this run writes, once the output folder is its own: with
+/// --resume the job in OUT must be this one (check_resumable); without, OUT
+/// must hold no other job's outputs unless --force (claim_output_folder).
+JobRecord claim_job(const JobOptions& options, const Sequence& sequence, Reporter& reporter) {
+  JobRecord record = make_job_record(options, sequence.frames());
+  const std::string path = job_record_path(options.output.dir);
+  if (!options.output.resume) {
+    const std::size_t removed = claim_output_folder(options);
+    if (removed > 0) reporter.info("--force: removed " + std::to_string(removed) + " files of the earlier job");
+  } else if (std::filesystem::exists(path)) {
+    const JobRecord job = read_job_record(options.output.dir);
+    check_resumable(job, record);
+    if (job.frames.size() > record.frames.size()) record.frames = job.frames;  // a shorter resume keeps them
+  } else if (!FramePattern(state_pattern(options.output.dir)).discover().empty()) {
+    throw InputError(path, "missing: the states in " + options.output.dir +
+                               "/state cannot be checked against a job (--force replaces them)");
+  }
+  return record;
 }
 
 }  // namespace
@@ -342,21 +380,27 @@ void remove_interrupted_temporaries(const JobOptions& options, Reporter& reporte
 JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   const auto start = Clock::now();
   options.validate();
-  remove_interrupted_temporaries(options, reporter);
+  // A run owns its whole folder: other machines' temporaries go too.
+  if (const std::size_t stale = remove_interrupted_temporaries(options, [](const std::string&) { return true; }))
+    reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
   const Sequence sequence(options.input);
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
   if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
+  const JobRecord record = claim_job(options, sequence, reporter);
   std::size_t first = 0;
   JobSummary summary;
   std::unique_ptr<Texturing> method;
-  if (options.method == TexturingMethod::FlowMap)
+  if (options.method == TexturingMethod::FlowMap) {
     method = std::make_unique<FlowMapTexturing>(options, *exemplar);
-  else
-    method = std::make_unique<PatchTexturing>(start_tracker(options, sequence, reporter, first, summary), options,
-                                              exemplar ? &*exemplar : nullptr);
+  } else {
+    std::string resumed_state;
+    Tracker tracker = start_tracker(options, sequence, reporter, first, summary, resumed_state);
+    method = std::make_unique<PatchTexturing>(std::move(tracker), options, exemplar ? &*exemplar : nullptr,
+                                              std::move(resumed_state));
+  }
 
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
-  write_text_atomically(options.output.dir + "/job.toml", job_toml(options));
+  write_text_atomically(job_record_path(options.output.dir), job_record_toml(record));
   int previous_frame = summary.resumed_after;
 
   // Frames flow through a TBB pipeline: read → track → texture → write.
@@ -389,6 +433,12 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     committed = work->index + 1;
     stats.add(work->stats);
     ++summary.frames;
+    FrameReport done;
+    done.step = options.method == TexturingMethod::FlowMap ? "run" : options.synthesis.track_only ? "track" : "run";
+    done.frame = work->frame;
+    done.seconds = seconds_since(work->started);
+    if (options.method == TexturingMethod::Patches) done.patches = work->stats.patches.total();
+    reporter.frame_done(done);
     reporter.progress(work->index + 1, sequence.size(), "written");
   };
   try {

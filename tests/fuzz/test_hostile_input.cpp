@@ -408,15 +408,21 @@ std::vector<Case> cases() {
                          [](const fs::path& dir) { test::write_file(dir / "c.toml", "radius = = 3\n[[[\n\x01\x02"); }));
   c.push_back(scene_case("config_bad_value", {"--config", "c.toml"}, "c.toml",
                          [](const fs::path& dir) { test::write_file(dir / "c.toml", "fade-frames = 0\n"); }));
-  // State files under --resume.
+  // State files under --resume: a job of frame 1 is made, then its state replaced.
   auto state = [](const std::string& bytes) {
     return [bytes](const fs::path& dir) {
-      fs::create_directories(dir / "out" / "state");
+      const std::string d = dir.string();
+      EXPECT_EQ(test::run_fluidtex("run -q -i '" + d + "/rotation.####.ply' -e '" + d + "/ex.png' -o '" + d +
+                                   "/out' --atlas-size 64 --frames 1"),
+                0);
       test::write_file(dir / "out" / "state" / "patches.0001.bin", bytes);
     };
   };
   c.push_back(scene_case("state_garbage", {"--resume"}, "patches.0001.bin", state("FTXSTATE\x02\0\0\0garbage")));
   c.push_back(scene_case("state_empty", {"--resume"}, "patches.0001.bin", state("")));
+  c.push_back(scene_case("state_bad_stream", {"--resume"}, "patches.0001.bin",
+                         state(std::string("FTXSTATE\x03\0\0\0", 12) + std::string(8, '\0') + "\x10" +
+                               std::string(7, '\0') + "\x20" + std::string(7, '\0') + "blosc?garbage")));
   add_generated_cases(c);
   c.push_back(scene_case("stale_temporaries_removed", {}, "", [](const fs::path& dir) {
     fs::create_directories(dir / "out");

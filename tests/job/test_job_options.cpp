@@ -5,6 +5,8 @@
 #include <set>
 
 #include "fluidtex/job/job_options.h"
+#include "fluidtex/job/job_record.h"
+#include "fluidtex/util/version.h"
 #include "fluidtex/job/pipeline.h"
 #include "test_util.h"
 
@@ -63,7 +65,17 @@ TEST(JobOptions, RunJobWritesItsJobToml) {
   job.synthesis.track_only = true;
   job.seed = 5;
   run_job(job, silent_reporter());
-  EXPECT_EQ(test::read_file(dir.path() / "out" / "job.toml"), job_toml(job));
+  // The options, then the [job] table: the build and the frames (no exemplar).
+  EXPECT_EQ(test::read_file(dir.path() / "out" / "job.toml"), job_record_toml(make_job_record(job, {1, 2})));
+  const std::string text = test::read_file(dir.path() / "out" / "job.toml");
+  EXPECT_TRUE(text.starts_with(job_toml(job))) << text;
+  EXPECT_NE(text.find("\n[job]\nversion=\"" + version_line() + "\"\nexemplar-sha1=\"\"\nframes=\"1-2\"\n"),
+            std::string::npos)
+      << text;
+  const JobRecord record = read_job_record(dir.file("out"));
+  EXPECT_EQ(record.version, version_line());
+  EXPECT_EQ(record.frames, (std::vector<int>{1, 2}));
+  EXPECT_EQ(record.options.seed, 5u);
 }
 
 }  // namespace

@@ -21,13 +21,23 @@
 
 namespace fluidtex {
 
+/// Which patch states a run keeps in OUT/state/ (--keep-state).
+enum class KeepState {
+  All,   ///< every frame's: `fluidtex synth` can texture any frame again
+  Last,  ///< the newest only: enough to --resume, a fraction of the disk
+};
+inline constexpr EnumName<KeepState> kKeepStateNames[] = {{KeepState::All, "all"}, {KeepState::Last, "last"}};
+constexpr const auto& enum_names(KeepState) { return kKeepStateNames; }
+
 struct OutputOptions {
-  std::string dir;            ///< -o: output folder
-  std::string atlas_pattern;  ///< --atlas; empty = DIR/atlas.####.exr
-  std::string mesh_pattern;   ///< --mesh; empty = DIR/mesh.####.obj
-  bool resume = false;        ///< --resume: continue after the last complete frame
-  bool debug_views = false;   ///< --debug-views: patch/disk PLYs per frame
-  bool write_state = true;    ///< OUT/state/patches.####.bin after every frame (not an option)
+  std::string dir;                   ///< -o: output folder
+  std::string atlas_pattern;         ///< --atlas; empty = DIR/atlas.####.exr
+  std::string mesh_pattern;          ///< --mesh; empty = DIR/mesh.####.obj
+  bool resume = false;               ///< --resume: continue the job in OUT after its last complete frame
+  bool force = false;                ///< --force: replace another job's outputs in OUT
+  KeepState keep_state = KeepState::All;  ///< --keep-state
+  bool debug_views = false;          ///< --debug-views: patch/disk PLYs per frame
+  bool write_state = true;           ///< OUT/state/patches.####.bin after every frame (not an option)
 
   /// The effective patterns (defaults filled in); InputError when a given
   /// pattern has no frame token or an unsupported extension.
@@ -41,7 +51,18 @@ struct OutputOptions {
       o.atlas_pattern);
     f(OptionInfo{.name = "mesh", .help = "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)"},
       o.mesh_pattern);
-    f(OptionInfo{.name = "resume", .help = "Continue after the last complete frame in OUT"}, o.resume);
+    f(OptionInfo{.name = "resume",
+                 .help = "Continue the job in OUT after its last complete frame (refused when an option that "
+                         "changes the output, the exemplar or the build differs from OUT/job.toml)"},
+      o.resume);
+    f(OptionInfo{.name = "force",
+                 .help = "Replace the outputs of an earlier job in OUT (without it, a run into a folder that holds "
+                         "one is refused)"},
+      o.force);
+    f(OptionInfo{.name = "keep-state",
+                 .help = "Patch states kept in OUT/state/: all (fluidtex synth can texture any frame) or last (the "
+                         "newest, enough for --resume)"},
+      o.keep_state);
     f(OptionInfo{.name = "debug-views",
                  .help = "Write per-frame PLYs of the patches and of the disks coloured by state"},
       o.debug_views);

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "fluidtex/io/image_io.h"
@@ -28,8 +30,17 @@ struct JobSummary {
 /// be written: a frame is complete with its state, or absent).
 void remove_frame_outputs(const JobOptions& options, int frame);
 
-/// The state file of `frame` under `dir` (DIR/state/patches.####.bin).
+/// The state files of a job in `dir`: DIR/state/patches.####.bin.
+std::string state_pattern(const std::string& dir);
+
+/// The state file of `frame` under `dir`.
 std::string state_path(const std::string& dir, int frame);
+
+/// Reads frame `index` of `sequence`, cleaned (what cleaning did as a
+/// verbose message); fills the frame number, "read" seconds, vertex and face
+/// counts of `stats`.
+std::shared_ptr<const FrameMesh> read_frame_mesh(const Sequence& sequence, std::size_t index, FrameStats& stats,
+                                                 Reporter& reporter);
 
 /// The exemplar as synthesis uses it: read through OpenImageIO, turned to
 /// one channel (Rec. 709 luminance) for displacement.
@@ -49,6 +60,12 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
 /// map, writers and stats, the texels from the two advected uv sets.
 void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
                               const JobOptions& options, int frame, FrameStats& stats);
+
+/// Removes the temporaries a killed run or synth left in the job's output
+/// folders (remove_stale_temporaries: this machine's dead writers', and
+/// other machines' whose target `owned` accepts). Returns how many.
+std::size_t remove_interrupted_temporaries(const JobOptions& options,
+                                           const std::function<bool(const std::string&)>& owned);
 
 /// Runs the job (either method). Throws InputError for bad input (before any output is
 /// written when the problem can be seen up front), InternalError otherwise.

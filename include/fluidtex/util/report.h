@@ -8,6 +8,14 @@
 
 namespace fluidtex {
 
+/// A frame whose outputs are all written: what a farm log shows of it.
+struct FrameReport {
+  const char* step = "run";  ///< "run", "track" (--track-only) or "synth"
+  int frame = 0;
+  double seconds = 0.0;  ///< wall time from reading its mesh to its last file
+  int patches = -1;      ///< patches on the frame; −1 for a method without patches
+};
+
 class Reporter {
  public:
   virtual ~Reporter() = default;
@@ -21,6 +29,8 @@ class Reporter {
   virtual void progress(std::size_t done, std::size_t total, const std::string& stage) {
     (void)done, (void)total, (void)stage;
   }
+  /// A frame is finished (called in frame order, from one thread at a time).
+  virtual void frame_done(const FrameReport& report) { (void)report; }
 };
 
 /// A reporter that says nothing (tests, library callers).

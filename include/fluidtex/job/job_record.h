@@ -1,0 +1,66 @@
+/// @file job_record.h
+/// @brief OUT/job.toml as a contract, and the files a job owns in OUT.
+///
+/// job.toml holds every option of the job (job_toml), then a `[job]` table:
+/// the build that made it (`version`), the exemplar's content hash
+/// (`exemplar-sha1`, what `sha1sum` prints) and the frames it covers
+/// (`frames`, resolved). `run --resume` and `fluidtex synth` continue a job
+/// only when everything that changes its outputs is the same; anything else
+/// is an InputError naming the option (exit 2), never a silent wrong result.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fluidtex/job/job_options.h"
+
+namespace fluidtex {
+
+struct JobRecord {
+  JobOptions options;
+  std::string version;        ///< version_line() of the build that wrote it; empty: written before records
+  std::string exemplar_sha1;  ///< SHA-1 of the exemplar's bytes; empty when the job has no exemplar
+  std::vector<int> frames;    ///< the frames the job covers, ascending
+};
+
+/// SHA-1 of the bytes of `path`, lower-case hex (what `sha1sum` prints);
+/// InputError naming the file when it is not a readable regular file.
+std::string file_sha1(const std::string& path);
+
+/// The record a run of `options` over `frames` writes: the exemplar hashed,
+/// paths made absolute (a synth step may start in another folder), --resume
+/// and --force reset (job.toml used as a --config never resumes or deletes).
+JobRecord make_job_record(const JobOptions& options, const std::vector<int>& frames);
+
+/// job.toml's text: job_toml(options), then the `[job]` table.
+std::string job_record_toml(const JobRecord& record);
+
+/// RUN_DIR/job.toml; InputError naming it when missing or malformed.
+JobRecord read_job_record(const std::string& run_dir);
+
+/// RUN_DIR/job.toml.
+std::string job_record_path(const std::string& run_dir);
+
+/// `run --resume` of `given` in a folder whose job is `job`: InputError
+/// naming job.toml and the first difference: the build, an option that
+/// changes the outputs (--threads, --debug-views, --keep-state and the
+/// console options do not; paths compare as absolute paths; the exemplar by
+/// content), or frames that do not continue the job's (one list must start
+/// with the other: a resume may extend or shorten the range, not move its
+/// start or step).
+void check_resumable(const JobRecord& job, const JobRecord& given);
+
+/// The files in the output folder (and under the atlas and mesh patterns)
+/// that a job of `options` writes: job.toml, stats.jsonl, stats/, state/,
+/// the atlases, AOVs, UV meshes and debug views of any frame, and what
+/// `fluidtex eval` and `preview` derived from them. Only those that exist.
+std::vector<std::filesystem::path> existing_job_outputs(const JobOptions& options);
+
+/// Before a run (not --resume) writes into OUT: InputError when OUT holds
+/// another job's outputs (naming one), unless `options.output.force`, which
+/// removes them all first (those of the job in OUT/job.toml too, when its
+/// patterns differ). Returns how many files --force removed.
+std::size_t claim_output_folder(const JobOptions& options);
+
+}  // namespace fluidtex

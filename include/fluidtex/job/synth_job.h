@@ -1,0 +1,41 @@
+/// @file synth_job.h
+/// @brief `fluidtex synth`: the atlases and UV meshes of some frames of a
+/// tracked job, from its states (a render farm's array tasks).
+///
+/// Tracking is sequential; texturing frame t needs only frame t's mesh, the
+/// exemplar and the patch state. A tracking step (`run --track-only`) writes
+/// OUT/job.toml and OUT/state/; any number of synth steps then texture
+/// disjoint frame ranges at once, on any machines sharing OUT. Each writes
+/// only its frames' files and its own stats file, and track + any split of
+/// synth gives files byte-identical to one `fluidtex run`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/util/report.h"
+
+namespace fluidtex {
+
+struct SynthRequest {
+  std::string dir;           ///< -o: the job's output folder (job.toml, state/)
+  std::string frames;        ///< --frames: some of the job's frames; empty = all of them
+  bool prune_state = false;  ///< --prune-state: drop the states of the textured frames (not the job's last)
+};
+
+/// Where a synth of `frames` writes its per-frame stats:
+/// DIR/stats/synth.<frames>.jsonl (format_frame_range, ',' as '_').
+std::string synth_stats_path(const std::string& dir, const std::vector<int>& frames);
+
+/// Textures the requested frames of the job in `request.dir`. InputError
+/// (before any output) when the job cannot be synthesised as recorded: no or
+/// an unreadable job.toml, another build, a flow-map job, no exemplar, an
+/// exemplar whose content changed, frames outside the job, a frame without a
+/// state; a state from another input (mesh fingerprint) when its frame is
+/// read. With `prune_state`, the states go once every requested frame is
+/// written, and a re-run skips frames whose state is gone but whose atlas
+/// and mesh are there (a killed prune).
+JobSummary synth_job(const SynthRequest& request, Reporter& reporter);
+
+}  // namespace fluidtex

@@ -1,0 +1,227 @@
+#include "fluidtex/job/job_record.h"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <set>
+
+#include <OpenImageIO/hash.h>
+
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/job/pipeline.h"
+#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/util/version.h"
+
+namespace fluidtex {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Options that do not change what a job writes (or where): a resumed run
+/// may give them differently. The exemplar is compared by content and the
+/// frames by their own rule.
+bool outside_contract(const std::string& name) {
+  static const std::set<std::string> names = {"output", "resume",    "force",  "keep-state",
+                                              "threads", "debug-views", "frames", "exemplar"};
+  return names.count(name) > 0;
+}
+
+/// A path as a resumed run compares it: absolute, normalised.
+std::string comparable_path(const std::string& path) {
+  if (path.empty()) return path;
+  return fs::absolute(fs::path(path)).lexically_normal().string();
+}
+
+/// The value of option `name` of `o` as the contract compares it.
+std::string contract_value(const JobOptions& o, const OptionRef& ref) {
+  const std::string name = ref.info.name;
+  if (name == "input") return comparable_path(o.input.pattern);
+  if (name == "atlas") return comparable_path(o.output.atlas());
+  if (name == "mesh") return comparable_path(o.output.mesh());
+  return ref.text();
+}
+
+std::string quoted(const std::string& text) { return "'" + text + "'"; }
+
+}  // namespace
+
+std::string file_sha1(const std::string& path) {
+  require_regular_file(path, "file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open file");
+  OIIO::SHA1 sha;
+  std::vector<char> buffer(1 << 20);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    sha.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad()) throw InputError(path, "read error");
+  std::string digest = sha.digest();
+  std::transform(digest.begin(), digest.end(), digest.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return digest;
+}
+
+std::string job_record_path(const std::string& run_dir) { return (fs::path(run_dir) / "job.toml").string(); }
+
+JobRecord make_job_record(const JobOptions& options, const std::vector<int>& frames) {
+  JobRecord record;
+  record.options = options;
+  record.options.output.resume = false;
+  record.options.output.force = false;
+  // Absolute paths: a synth step or a resume may start in another folder.
+  for (std::string* path : {&record.options.input.pattern, &record.options.exemplar, &record.options.output.dir,
+                            &record.options.output.atlas_pattern, &record.options.output.mesh_pattern}) {
+    *path = comparable_path(*path);
+  }
+  record.version = version_line();
+  if (!options.exemplar.empty()) record.exemplar_sha1 = file_sha1(options.exemplar);
+  record.frames = frames;
+  return record;
+}
+
+std::string job_record_toml(const JobRecord& record) {
+  namespace d = option_detail;
+  return job_toml(record.options) +
+         "\n# The job: the build that made it, the exemplar's content (sha1sum) and the frames it covers.\n"
+         "# fluidtex run --resume and fluidtex synth refuse to continue a job that differs.\n"
+         "[job]\n"
+         "version=" +
+         d::toml_string("version", record.version) + "\nexemplar-sha1=" +
+         d::toml_string("exemplar-sha1", record.exemplar_sha1) +
+         "\nframes=" + d::toml_string("frames", format_frame_range(record.frames)) + "\n";
+}
+
+JobRecord read_job_record(const std::string& run_dir) {
+  const std::string path = job_record_path(run_dir);
+  JobRecord record;
+  record.options = read_job_manifest(run_dir);
+  for (const ConfigEntry& e : read_config_file(path, "job")) {
+    const std::string value = e.values.size() == 1 ? e.values[0] : std::string();
+    if (e.values.size() != 1) throw InputError(path, "[job] " + e.name + ": expected one value");
+    if (e.name == "version") {
+      record.version = value;
+    } else if (e.name == "exemplar-sha1") {
+      record.exemplar_sha1 = value;
+    } else if (e.name == "frames") {
+      try {
+        record.frames = parse_frame_range(value);
+      } catch (const InputError& err) {
+        throw InputError(path, "[job] frames: " + err.problem());
+      }
+    } else {
+      throw InputError(path, "unknown [job] key '" + e.name + "'");
+    }
+  }
+  return record;
+}
+
+void check_resumable(const JobRecord& job, const JobRecord& given) {
+  const std::string path = job_record_path(given.options.output.dir);
+  const std::string restart = " (or --force to replace the job)";
+  if (job.version.empty()) {
+    throw InputError(path, "written by a fluidtex without job records: --resume cannot check it" + restart);
+  }
+  if (job.version != given.version) {
+    throw InputError(path, "the job was made by " + job.version + ", this is " + given.version +
+                               ": resume it with that build" + restart);
+  }
+  JobOptions a = job.options, b = given.options;  // the tables bind mutable fields
+  a.output.dir = b.output.dir;  // the job is the one in this folder, however it is spelled
+  const std::vector<OptionRef> ta = option_table(a), tb = option_table(b);
+  for (std::size_t i = 0; i < ta.size(); ++i) {
+    const std::string name = ta[i].info.name;
+    if (outside_contract(name)) continue;
+    const std::string va = contract_value(a, ta[i]), vb = contract_value(b, tb[i]);
+    if (va == vb) continue;
+    throw InputError(path, "--" + name + " differs from the job's: " + quoted(vb) + " given, " + quoted(va) +
+                               " in the job" + restart);
+  }
+  if (job.exemplar_sha1 != given.exemplar_sha1) {
+    const std::string problem =
+        job.exemplar_sha1.empty()     ? "the job has no exemplar"
+        : given.exemplar_sha1.empty() ? "the job was made with one (" + job.options.exemplar + ")"
+                                      : "its content differs from the job's (sha1 " + given.exemplar_sha1 +
+                                            ", the job's " + job.exemplar_sha1 + ")";
+    throw InputError(path, "--exemplar: " + problem + restart);
+  }
+  const std::size_t n = std::min(job.frames.size(), given.frames.size());
+  if (!std::equal(job.frames.begin(), job.frames.begin() + static_cast<std::ptrdiff_t>(n), given.frames.begin())) {
+    throw InputError(path, "--frames: " + format_frame_range(given.frames) + " does not continue the job's frames " +
+                               format_frame_range(job.frames) +
+                               " (a resume keeps their first frame and step; fluidtex synth textures a part of them)");
+  }
+}
+
+std::vector<fs::path> existing_job_outputs(const JobOptions& options) {
+  const fs::path out(options.output.dir);
+  std::set<fs::path> files;
+  std::error_code ec;
+  const auto add_file = [&](const fs::path& p) {
+    if (fs::exists(fs::symlink_status(p, ec))) files.insert(p);
+  };
+  const auto add_pattern = [&](const std::string& pattern) {
+    const FramePattern fp(pattern);
+    for (int f : fp.discover()) {
+      const fs::path p = fp.path(f);
+      if (!fs::is_directory(fs::symlink_status(p, ec))) files.insert(p);  // outputs are files
+    }
+  };
+  add_file(out / "job.toml");
+  add_file(out / "stats.jsonl");
+  for (const auto& entry : fs::directory_iterator(out / "stats", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("synth.") && name.ends_with(".jsonl")) files.insert(entry.path());
+  }
+  add_pattern(state_pattern(options.output.dir));
+  add_pattern(options.output.atlas());
+  add_pattern(options.output.mesh());
+  for (const char* layer : {"weight", "count", "patch"}) add_pattern((out / "aov" / layer).string() + ".####.exr");
+  for (const char* view : {"patches", "disks"}) add_pattern((out / "debug" / view).string() + ".####.ply");
+  for (const char* name : {"metrics.jsonl", "summary.json", "report.html"}) add_file(out / "eval" / name);
+  add_pattern((out / "eval/preview.####.png").string());
+  add_pattern((out / "preview/frame.####.png").string());
+  add_file(out / "preview/sheet.png");
+  return {files.begin(), files.end()};
+}
+
+std::size_t claim_output_folder(const JobOptions& options) {
+  std::vector<fs::path> files = existing_job_outputs(options);
+  if (fs::exists(job_record_path(options.output.dir))) {
+    // The earlier job may have put its atlases or meshes elsewhere.
+    try {
+      JobOptions earlier = read_job_manifest(options.output.dir);
+      earlier.output.dir = options.output.dir;
+      for (fs::path& p : existing_job_outputs(earlier)) files.push_back(std::move(p));
+    } catch (const InputError&) {
+      // An unreadable job.toml: its own patterns are unknown; the defaults were listed.
+    }
+  }
+  std::sort(files.begin(), files.end());
+  files.erase(std::unique(files.begin(), files.end()), files.end());
+  if (files.empty()) return 0;
+  if (!options.output.force) {
+    const fs::path record = job_record_path(options.output.dir);
+    const fs::path named = std::binary_search(files.begin(), files.end(), record) ? record : files.front();
+    const std::string more = files.size() > 1 ? " and " + std::to_string(files.size() - 1) + " more files" : "";
+    throw InputError(options.output.dir, "holds the outputs of an earlier job (" + named.string() + more +
+                                             "): --resume continues it, --force replaces it");
+  }
+  std::size_t removed = 0;
+  std::set<fs::path> folders;
+  for (const fs::path& f : files) {
+    std::error_code ec;
+    if (fs::remove(f, ec)) ++removed;
+    if (ec) throw InternalError(f.string() + ": --force cannot remove it: " + ec.message());
+    folders.insert(f.parent_path());
+  }
+  for (const fs::path& dir : folders) {
+    std::error_code ignored;
+    if (dir != fs::path(options.output.dir)) fs::remove(dir, ignored);  // only when empty
+  }
+  return removed;
+}
+
+}  // namespace fluidtex

@@ -1,0 +1,181 @@
+#include "fluidtex/job/synth_job.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include <oneapi/tbb/parallel_pipeline.h>
+
+#include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/io/sequence.h"
+#include "fluidtex/io/stats.h"
+#include "fluidtex/job/job_record.h"
+#include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/util/timing.h"
+#include "fluidtex/util/version.h"
+
+namespace fluidtex {
+
+namespace fs = std::filesystem;
+
+std::string synth_stats_path(const std::string& dir, const std::vector<int>& frames) {
+  std::string range = format_frame_range(frames);
+  std::replace(range.begin(), range.end(), ',', '_');
+  return (fs::path(dir) / "stats" / ("synth." + range + ".jsonl")).string();
+}
+
+namespace {
+
+/// The job's options as synthesis runs them, once the record says the job
+/// can be synthesised here (InputError naming job.toml otherwise).
+JobOptions synthesis_job(const JobRecord& record, const std::string& dir) {
+  const std::string path = job_record_path(dir);
+  if (record.version.empty()) throw InputError(path, "written by a fluidtex without job records: track it again");
+  if (record.version != version_line()) {
+    throw InputError(path, "the job was tracked by " + record.version + ", this is " + version_line() +
+                               ": synthesise with the build that tracked it, or track again");
+  }
+  JobOptions options = record.options;
+  if (options.method != TexturingMethod::Patches) {
+    throw InputError(path, "--method " + std::string(to_string(options.method)) +
+                               ": the job keeps no patch states to synthesise from (fluidtex run textures it)");
+  }
+  if (options.exemplar.empty()) {
+    throw InputError(path, "the job has no exemplar: give the tracking step one (run --track-only -e EXEMPLAR)");
+  }
+  const std::string sha1 = file_sha1(options.exemplar);
+  if (sha1 != record.exemplar_sha1) {
+    throw InputError(options.exemplar, "the exemplar changed since the job was tracked (sha1 " + sha1 +
+                                           ", the job's " + record.exemplar_sha1 + ")");
+  }
+  options.output.dir = dir;
+  options.output.resume = false;
+  options.synthesis.track_only = false;
+  options.input.frames = format_frame_range(record.frames);  // the sequence as tracked (velocity differences)
+  options.validate();
+  return options;
+}
+
+/// The output files of `frame` (atlas, AOVs, UV mesh).
+std::vector<fs::path> frame_outputs(const JobOptions& options, int frame) {
+  std::vector<fs::path> files = {FramePattern(options.output.atlas()).path(frame),
+                                 FramePattern(options.output.mesh()).path(frame)};
+  for (const std::string& layer : options.synthesis.aov)
+    files.emplace_back(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame));
+  return files;
+}
+
+/// One frame on its way through synthesis.
+struct SynthWork {
+  std::size_t index = 0;  // in the sequence
+  Clock::time_point started = Clock::now();
+  std::shared_ptr<const FrameMesh> mesh;
+  FrameStats stats;
+};
+
+}  // namespace
+
+JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
+  const auto start = Clock::now();
+  const JobRecord record = read_job_record(request.dir);
+  const JobOptions options = synthesis_job(record, request.dir);
+  const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
+  const std::string frames_text = format_frame_range(record.frames);
+
+  // Every frame is checked before anything is written.
+  std::vector<int> todo;
+  for (int f : wanted) {
+    if (!std::binary_search(record.frames.begin(), record.frames.end(), f)) {
+      throw InputError(job_record_path(request.dir),
+                       "--frames: frame " + std::to_string(f) + " is not one of the job's frames " + frames_text);
+    }
+    const std::string state = state_path(request.dir, f);
+    if (fs::exists(state)) {
+      todo.push_back(f);
+      continue;
+    }
+    const std::vector<fs::path> outputs = frame_outputs(options, f);
+    const bool written = std::all_of(outputs.begin(), outputs.end(), [](const fs::path& p) { return fs::exists(p); });
+    if (request.prune_state && written) {
+      reporter.verbose("frame " + std::to_string(f) + ": textured and its state pruned already");
+      continue;
+    }
+    throw InputError(state, "missing: frame " + std::to_string(f) +
+                                " was not tracked (run the tracking step, or finish it with run --resume)");
+  }
+  const Sequence sequence(options.input);
+  const Exemplar exemplar = load_exemplar(options.exemplar, options.synthesis.displacement);
+
+  // This step's files: its frames' outputs and its stats file. Temporaries
+  // another machine left for them are this step's to remove (a re-run after
+  // a killed task lands anywhere on the farm).
+  const std::string stats_path = synth_stats_path(request.dir, wanted);
+  std::set<std::string> owned = {fs::path(stats_path).filename().string()};
+  for (int f : todo) {
+    for (const fs::path& p : frame_outputs(options, f)) owned.insert(p.filename().string());
+  }
+  if (const std::size_t stale =
+          remove_interrupted_temporaries(options, [&](const std::string& name) { return owned.count(name) > 0; }))
+    reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted step");
+  StatsWriter stats(stats_path, true);
+
+  JobSummary summary;
+  std::size_t next = 0;
+  using WorkPtr = std::shared_ptr<SynthWork>;
+  auto read = [&](tbb::flow_control& fc) -> WorkPtr {
+    if (next == todo.size()) {
+      fc.stop();
+      return nullptr;
+    }
+    auto work = std::make_shared<SynthWork>();
+    const auto at = std::lower_bound(sequence.frames().begin(), sequence.frames().end(), todo[next++]);
+    work->index = static_cast<std::size_t>(at - sequence.frames().begin());
+    work->stats.method = to_string(options.method);
+    work->mesh = read_frame_mesh(sequence, work->index, work->stats, reporter);
+    return work;
+  };
+  auto texture = [&](WorkPtr work) {
+    const int frame = work->stats.frame;
+    std::optional<Tracker> tracker;
+    {
+      const ScopedStage stage(work->stats.seconds, "state");
+      tracker.emplace(Tracker::load(state_path(request.dir, frame), work->mesh));
+    }
+    work->stats.patches = count_states(tracker->patches());
+    synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().method, exemplar, options, frame,
+                     work->stats);
+    return work;
+  };
+  auto write = [&](const WorkPtr& work) {
+    stats.add(work->stats);
+    ++summary.frames;
+    FrameReport done;
+    done.step = "synth";
+    done.frame = work->stats.frame;
+    done.seconds = seconds_since(work->started);
+    done.patches = work->stats.patches.total();
+    reporter.frame_done(done);
+    reporter.progress(summary.frames, todo.size(), "written");
+  };
+  tbb::parallel_pipeline(3, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &
+                                tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::parallel, texture) &
+                                tbb::make_filter<WorkPtr, void>(tbb::filter_mode::serial_in_order, write));
+
+  // Pruned only now that every frame is written: a step killed before this
+  // point is re-run as it was; one killed while pruning skips the frames it
+  // pruned. The job's last state stays for run --resume.
+  if (request.prune_state) {
+    for (int f : todo) {
+      if (f == record.frames.back()) continue;
+      std::error_code ignored;
+      fs::remove(state_path(request.dir, f), ignored);
+    }
+  }
+  summary.seconds = seconds_since(start);
+  return summary;
+}
+
+}  // namespace fluidtex
