@@ -12,7 +12,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev libopencv-video-dev
-  libopenvdb-dev libboost-iostreams-dev
+  libopenvdb-dev libboost-iostreams-dev libblosc-dev
   libgtest-dev libgmock-dev
 )
 

@@ -1,6 +1,20 @@
 // Versioned binary state of a Tracker (patches.####.bin). Little-endian,
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
+//
+// Layout (version 3): the magic, the version, a checksum of the raw
+// streams (farmhash; damage anywhere is refused, not loaded), then three streams, each
+// compressed with Blosc (byte shuffle + zstd) in chunks: the 8-byte fields
+// (doubles, 64-bit counts), the 4-byte ones (ints, floats) and the bytes.
+// Fields go to their stream in serialisation order, so the reader consumes
+// each stream in the writer's order. Grouping fields by width lets the
+// shuffle put the like bytes of neighbouring values together (the high bytes
+// of coordinates barely change), which is where the compression comes from.
+// Patch positions are not stored: they are their projections' positions.
+#include <OpenImageIO/hash.h>
+#include <blosc.h>
+
+#include <array>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -17,14 +31,108 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
+constexpr std::size_t kStreams = 3;                    // 8-, 4- and 1-byte fields
+constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};
+constexpr std::size_t kChunk = std::size_t{1} << 26;  // 64 MiB of raw bytes per Blosc buffer
+
+/// The stream of a field type: by its alignment (an array of ints goes with
+/// the ints).
+template <class T>
+constexpr std::size_t stream_of() {
+  return alignof(T) >= 8 ? 0 : alignof(T) == 4 ? 1 : 2;
+}
+
+void append_raw(std::string& out, const void* data, std::size_t n) {
+  out.append(static_cast<const char*>(data), n);
+}
+
+std::uint64_t checksum(const std::array<std::string, kStreams>& streams) {
+  std::uint64_t h = 0;
+  for (const std::string& s : streams) h = OIIO::farmhash::Hash64WithSeed(s.data(), s.size(), h);
+  return h;
+}
+
+/// The streams compressed: per stream its raw size, then chunks of
+/// (compressed size, Blosc buffer).
+std::string pack_streams(const std::array<std::string, kStreams>& streams) {
+  std::string out;
+  for (char c : kMagic) out += c;
+  append_raw(out, &kVersion, sizeof kVersion);
+  const std::uint64_t sum = checksum(streams);
+  append_raw(out, &sum, sizeof sum);
+  for (std::size_t s = 0; s < kStreams; ++s) {
+    const std::string& raw = streams[s];
+    const std::uint64_t size = raw.size();
+    append_raw(out, &size, sizeof size);
+    std::string buffer;
+    for (std::size_t at = 0; at < raw.size(); at += kChunk) {
+      const std::size_t n = std::min(kChunk, raw.size() - at);
+      buffer.resize(n + BLOSC_MAX_OVERHEAD);
+      const int written = blosc_compress_ctx(5, BLOSC_SHUFFLE, kTypeSize[s], n, raw.data() + at, buffer.data(),
+                                             buffer.size(), "zstd", 0, 1);
+      if (written <= 0) throw InternalError("state file: compression failed (" + std::to_string(written) + ")");
+      const std::uint64_t packed = static_cast<std::uint64_t>(written);
+      append_raw(out, &packed, sizeof packed);
+      out.append(buffer.data(), static_cast<std::size_t>(written));
+    }
+  }
+  return out;
+}
+
+/// The streams of a state file's bytes; InputError naming `path` for a file
+/// that is not a state of this version or is damaged.
+std::array<std::string, kStreams> unpack_streams(const std::string& bytes, const std::string& path) {
+  std::size_t pos = 0;
+  const auto take = [&](void* dst, std::size_t n) {
+    if (pos + n > bytes.size()) throw InputError(path, "truncated state file");
+    std::memcpy(dst, bytes.data() + pos, n);
+    pos += n;
+  };
+  char magic[8];
+  take(magic, sizeof magic);
+  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) throw InputError(path, "not a fluidtex state file");
+  std::uint32_t version;
+  take(&version, sizeof version);
+  if (version != kVersion) {
+    throw InputError(path, "state file version " + std::to_string(version) + " (this build reads version " +
+                               std::to_string(kVersion) + ")");
+  }
+  std::uint64_t sum;
+  take(&sum, sizeof sum);
+  std::array<std::string, kStreams> streams;
+  for (std::string& raw : streams) {
+    std::uint64_t size;
+    take(&size, sizeof size);
+    // Grown chunk by chunk, each validated first: a damaged size cannot
+    // make the reader allocate what the file does not hold.
+    for (std::uint64_t at = 0; at < size; at += kChunk) {
+      const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kChunk, size - at));
+      std::uint64_t packed;
+      take(&packed, sizeof packed);
+      if (packed > bytes.size() - pos) throw InputError(path, "truncated state file");
+      std::size_t expected = 0;
+      if (blosc_cbuffer_validate(bytes.data() + pos, packed, &expected) != 0 || expected != n) {
+        throw InputError(path, "corrupt state file (compressed data)");
+      }
+      raw.resize(raw.size() + n);
+      if (blosc_decompress_ctx(bytes.data() + pos, raw.data() + at, n, 1) != static_cast<int>(n)) {
+        throw InputError(path, "corrupt state file (compressed data)");
+      }
+      pos += packed;
+    }
+  }
+  if (pos != bytes.size()) throw InputError(path, "corrupt state file (trailing bytes)");
+  if (checksum(streams) != sum) throw InputError(path, "corrupt state file (checksum)");
+  return streams;
+}
 
 class Writer {
  public:
   template <class T>
   void put(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
-    buf_.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    append_raw(streams_[stream_of<T>()], &v, sizeof(T));
   }
   void put(const Vec3& v) { put(v.x()), put(v.y()), put(v.z()); }
   void put(const Vec2& v) { put(v.x()), put(v.y()); }
@@ -37,21 +145,23 @@ class Writer {
     put(static_cast<std::uint64_t>(v.size()));
     for (const T& x : v) put(x);
   }
-  const std::string& bytes() const { return buf_; }
+  std::string bytes() const { return pack_streams(streams_); }
 
  private:
-  std::string buf_;
+  std::array<std::string, kStreams> streams_;
 };
 
 class Reader {
  public:
-  Reader(std::string bytes, std::string path) : buf_(std::move(bytes)), path_(std::move(path)) {}
+  Reader(const std::string& bytes, std::string path) : buf_(unpack_streams(bytes, path)), path_(std::move(path)) {}
   template <class T>
   void get(T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
-    if (pos_ + sizeof(T) > buf_.size()) throw InputError(path_, "truncated state file");
-    std::memcpy(&v, buf_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
+    const std::string& buf = buf_[stream_of<T>()];
+    std::size_t& pos = pos_[stream_of<T>()];
+    if (pos + sizeof(T) > buf.size()) throw InputError(path_, "truncated state file");
+    std::memcpy(&v, buf.data() + pos, sizeof(T));
+    pos += sizeof(T);
   }
   void get(Vec3& v) { get(v.x()), get(v.y()), get(v.z()); }
   void get(Vec2& v) { get(v.x()), get(v.y()); }
@@ -66,17 +176,25 @@ class Reader {
   void get_vector(std::vector<T>& v) {
     std::uint64_t n;
     get(n);
-    if (n > (buf_.size() - pos_)) throw InputError(path_, "corrupt state file (bad array size)");
+    // Every element takes at least one byte of some stream.
+    std::size_t left = 0;
+    for (std::size_t s = 0; s < kStreams; ++s) left += buf_[s].size() - pos_[s];
+    if (n > left) throw InputError(path_, "corrupt state file (bad array size)");
     v.resize(n);
     for (T& x : v) get(x);
   }
-  bool done() const { return pos_ == buf_.size(); }
+  bool done() const {
+    for (std::size_t s = 0; s < kStreams; ++s) {
+      if (pos_[s] != buf_[s].size()) return false;
+    }
+    return true;
+  }
   const std::string& path() const { return path_; }
 
  private:
-  std::string buf_;
+  std::array<std::string, kStreams> buf_;
+  std::array<std::size_t, kStreams> pos_{};
   std::string path_;
-  std::size_t pos_ = 0;
 };
 
 // The tracking options in the order TrackingOptions::for_each_option lists
@@ -153,8 +271,6 @@ void Tracker::save(const std::string& path) const { write_text_atomically(path, 
 
 std::string Tracker::serialize() const {
   Writer w;
-  for (char c : kMagic) w.put(c);
-  w.put(kVersion);
   put_settings(w, settings_);
   w.put(static_cast<std::int32_t>(frame_));
   w.put(next_id_);
@@ -165,7 +281,7 @@ std::string Tracker::serialize() const {
     w.put(static_cast<std::int32_t>(p.created_frame)), w.put(static_cast<std::int32_t>(p.flagged_frame));
     w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
     w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor);
-    w.put_vector(p.positions), w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
+    w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
     w.put(p.max_distortion), w.put(p.disk_weight), w.put(p.motion);
   }
@@ -182,15 +298,6 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   std::ostringstream ss;
   ss << in.rdbuf();
   Reader r(ss.str(), path);
-  char magic[8];
-  for (char& c : magic) r.get(c);
-  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) throw InputError(path, "not a fluidtex state file");
-  std::uint32_t version;
-  r.get(version);
-  if (version != kVersion) {
-    throw InputError(path, "state file version " + std::to_string(version) + " (this build reads version " +
-                               std::to_string(kVersion) + ")");
-  }
   TrackerSettings settings;
   get_settings(r, settings);
   Tracker t(settings);
@@ -208,11 +315,13 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density;
     r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor);
-    r.get_vector(p.positions), r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
+    r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
     r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
-    const std::size_t nv = p.positions.size();
-    bool ok = p.projections.size() == nv && p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv &&
+    const std::size_t nv = p.projections.size();
+    p.positions.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
+    bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv &&
               p.weight.size() == nv && p.rest.size() == p.triangles.size() && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
