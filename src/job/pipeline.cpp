@@ -165,7 +165,8 @@ struct Work {
   std::vector<Patch> patches;  // patches
   TrackingOptions resolved;    // patches
   FlowMapFrame flow;           // flowmap
-  std::string state;           // patches: the serialised tracker, written last
+  Tracker::UnpackedState state;  // patches: the tracker's state, packed in texture(), written last
+  std::string packed_state;
 };
 
 /// A texturing method as the pipeline drives it: `track` runs serially in
@@ -212,10 +213,15 @@ class PatchTexturing final : public Texturing {
     work.surface = tracker_.shared_surface();
     work.patches = tracker_.patches();
     work.resolved = tracker_.settings().method;
-    if (write_state_) work.state = tracker_.serialize();
+    if (write_state_) work.state = tracker_.unpacked_state();
   }
 
   void texture(Work& work) const override {
+    if (write_state_) {
+      const ScopedStage stage(work.stats.seconds, "state_pack");
+      work.packed_state = Tracker::pack_state(work.state);
+      work.state = {};
+    }
     if (exemplar_) {
       synthesize_frame(*work.surface, work.patches, work.resolved, *exemplar_, options_, work.frame, work.stats);
       return;
@@ -231,7 +237,7 @@ class PatchTexturing final : public Texturing {
     const ScopedStage stage(work.stats.seconds, "state");
     if (!write_state_) return;
     const std::string path = state_path(options_.output.dir, work.frame);
-    write_text_atomically(path, work.state);
+    write_text_atomically(path, work.packed_state);
     // --keep-state last: the previous state goes once the new one is in place.
     if (options_.output.keep_state == KeepState::Last && !last_state_.empty() && last_state_ != path) {
       std::error_code ignored;

@@ -32,7 +32,8 @@ namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
 constexpr std::uint32_t kVersion = 3;
-constexpr std::size_t kStreams = 3;                    // 8-, 4- and 1-byte fields
+constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
+static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};
 constexpr std::size_t kChunk = std::size_t{1} << 26;  // 64 MiB of raw bytes per Blosc buffer
 
@@ -145,7 +146,7 @@ class Writer {
     put(static_cast<std::uint64_t>(v.size()));
     for (const T& x : v) put(x);
   }
-  std::string bytes() const { return pack_streams(streams_); }
+  const std::array<std::string, kStreams>& streams() const { return streams_; }
 
  private:
   std::array<std::string, kStreams> streams_;
@@ -269,7 +270,11 @@ std::uint64_t mesh_fingerprint(const FrameMesh& mesh) {
 
 void Tracker::save(const std::string& path) const { write_text_atomically(path, serialize()); }
 
-std::string Tracker::serialize() const {
+std::string Tracker::serialize() const { return pack_state(unpacked_state()); }
+
+std::string Tracker::pack_state(const UnpackedState& state) { return pack_streams(state.streams); }
+
+Tracker::UnpackedState Tracker::unpacked_state() const {
   Writer w;
   put_settings(w, settings_);
   w.put(static_cast<std::int32_t>(frame_));
@@ -288,7 +293,7 @@ std::string Tracker::serialize() const {
   w.put(static_cast<std::uint64_t>(retired_.size()));
   for (const RetiredPatch& r : retired_)
     w.put(r.id), w.put(static_cast<std::uint8_t>(r.cause)), w.put(static_cast<std::int32_t>(r.age));
-  return w.bytes();
+  return {w.streams()};
 }
 
 Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> mesh) {

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -105,8 +106,16 @@ class Tracker {
   /// later process can resume tracking or synthesise this frame. The surface
   /// is not stored: resuming re-reads the frame's mesh and checks it matches.
   void save(const std::string& path) const;
-  /// The bytes save() writes.
+  /// The bytes save() writes: pack_state(unpacked_state()).
   std::string serialize() const;
+  /// The state before packing: a copy of the fields, cheap enough for the
+  /// pipeline's serial tracking stage, so that packing (pack_state, the
+  /// costly half) runs in parallel with the next frame's tracking.
+  struct UnpackedState {
+    std::array<std::string, 3> streams;  ///< the 8-, 4- and 1-byte fields, in serialisation order
+  };
+  UnpackedState unpacked_state() const;
+  static std::string pack_state(const UnpackedState& state);
   /// Restores a saved state onto `mesh` (the same frame's mesh, read again);
   /// InputError when the file is not a valid state or does not match `mesh`.
   static Tracker load(const std::string& path, std::shared_ptr<const FrameMesh> mesh);
