@@ -425,13 +425,18 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     reporter.progress(work->index, sequence.size(), "track");
     const double dt = previous_frame == -1 ? 1.0 / options.input.fps
                                            : static_cast<double>(work->frame - previous_frame) / options.input.fps;
-    method->track(*work, dt, work->index == first, reporter);
+    isolated_stage([&] {
+      method->track(*work, dt, work->index == first, reporter);
+      return 0;
+    });
     previous_frame = work->frame;
     return work;
   };
   auto texture = [&](WorkPtr work) {
-    method->texture(*work);
-    return work;
+    return isolated_stage([&] {
+      method->texture(*work);
+      return work;
+    });
   };
   std::size_t committed = first;  // frames [first, committed) have all their outputs
   auto write = [&](const WorkPtr& work) {

@@ -137,7 +137,7 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
     work->mesh = read_frame_mesh(sequence, work->index, work->stats, reporter);
     return work;
   };
-  auto texture = [&](WorkPtr work) {
+  auto synthesize_one = [&](WorkPtr work) {
     const int frame = work->stats.frame;
     std::optional<Tracker> tracker;
     {
@@ -149,6 +149,7 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
                      work->stats);
     return work;
   };
+  auto texture = [&](WorkPtr work) { return isolated_stage([&] { return synthesize_one(work); }); };
   auto write = [&](const WorkPtr& work) {
     stats.add(work->stats);
     ++summary.frames;

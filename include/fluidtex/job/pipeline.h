@@ -5,6 +5,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <type_traits>
+
+#include <oneapi/tbb/task_group.h>
 #include <string>
 
 #include "fluidtex/io/image_io.h"
@@ -66,6 +70,21 @@ void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& f
 /// other machines' whose target `owned` accepts). Returns how many.
 std::size_t remove_interrupted_temporaries(const JobOptions& options,
                                            const std::function<bool(const std::string&)>& owned);
+
+/// Runs `f` (a stage of a frame pipeline) in a TBB context of its own. When
+/// one frame fails, TBB cancels the pipeline's context and with it every
+/// parallel loop bound to it: a stage still running for another frame would
+/// see its loops stop half-way and go on with half-filled results. Isolated,
+/// the stage finishes whole (its frame is then dropped); its own exceptions
+/// still reach the pipeline.
+template <class F>
+auto isolated_stage(F&& f) {
+  tbb::task_group_context context(tbb::task_group_context::isolated);
+  tbb::task_group group(context);
+  std::optional<std::invoke_result_t<F&>> result;
+  group.run_and_wait([&] { result.emplace(f()); });
+  return std::move(*result);
+}
 
 /// Runs the job (either method). Throws InputError for bad input (before any output is
 /// written when the problem can be seen up front), InternalError otherwise.
