@@ -540,5 +540,47 @@ TEST(KillAndResume, GivesTheUninterruptedOutputs) {
   EXPECT_GE(interrupted, 2);  // the test kills runs mid-way
 }
 
+/// kill -9 a farm's synthesis step at several moments (with --prune-state, so
+/// a kill may land while it prunes), then run it again unchanged: the
+/// atlases and meshes are those of one uninterrupted run.
+TEST(KillAndRerun, ASynthStepFinishesTheSame) {
+  test::TempDir dir;
+  const int frames = 6;
+  test::write_rotation_scene(dir.path(), frames, 16);
+  auto run = [&](const std::string& out, const std::string& extra) {
+    std::vector<std::string> a{"run",          "-q",  "-i",     "rotation.####.ply", "-e", "ex.png", "-o",
+                               out,            "--atlas-size", "128", "--seed", "3"};
+    if (!extra.empty()) a.push_back(extra);
+    return a;
+  };
+  ASSERT_EQ(run_limited(run("full", ""), dir.path()).code, 0);
+  int interrupted = 0;
+  for (const double at : {0.15, 0.4, 0.65, 0.9}) {
+    const std::string out = "farm" + std::to_string(static_cast<int>(at * 100));
+    SCOPED_TRACE(out);
+    ASSERT_EQ(run_limited(run(out, "--track-only"), dir.path()).code, 0);
+    const std::vector<std::string> synth{"synth", "-q", "-o", out, "--prune-state"};
+    const auto start = std::chrono::steady_clock::now();
+    ASSERT_EQ(run_limited(synth, dir.path()).code, 0);  // how long one takes, on a copy of the job
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // The job again from scratch, so that the killed step starts from states.
+    std::vector<std::string> retrack = run(out, "--track-only");
+    retrack.push_back("--force");
+    ASSERT_EQ(run_limited(retrack, dir.path()).code, 0);
+    interrupted += run_limited(synth, dir.path(), at * seconds).timed_out;
+    const Outcome again = run_limited(synth, dir.path());
+    ASSERT_EQ(again.code, 0) << again.err;
+    EXPECT_EQ(temporaries(dir.path() / out), std::vector<std::string>{});
+    for (int f = 1; f <= frames; ++f) {
+      for (const std::string pattern : {"atlas.####.exr", "mesh.####.obj"}) {
+        const std::string name = FramePattern(pattern).path(f);
+        EXPECT_EQ(test::read_file(dir.path() / "full" / name), test::read_file(dir.path() / out / name)) << name;
+      }
+    }
+    EXPECT_EQ(test::list_dir(dir.path() / out / "state"), std::vector<std::string>{"patches.0006.bin"});
+  }
+  EXPECT_GE(interrupted, 2);  // the test kills steps mid-way
+}
+
 }  // namespace
 }  // namespace fluidtex
