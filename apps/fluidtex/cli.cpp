@@ -77,8 +77,8 @@ class ConsoleReporter : public Reporter {
     char seconds[32];
     std::snprintf(seconds, sizeof seconds, "%.3f", r.seconds);
     if (format_ == LogFormat::Json) {
-      std::string fields = ",\"step\":\"" + std::string(r.step) + "\",\"frame\":" + std::to_string(r.frame) +
-                           ",\"seconds\":" + seconds;
+      std::string fields =
+          ",\"step\":\"" + std::string(r.step) + "\",\"frame\":" + std::to_string(r.frame) + ",\"seconds\":" + seconds;
       if (r.patches >= 0) fields += ",\"patches\":" + std::to_string(r.patches);
       print(json_event("frame", fields));
       return;
@@ -257,8 +257,7 @@ void add_synth(CLI::App& app, int& exit_code) {
       "synth",
       "Texture frames of a tracked job (run --track-only) from its states: atlases and UV meshes identical to "
       "fluidtex run's; any number of synth steps may texture different frames at once");
-  cmd->add_option("-o,--output", args->request.dir, "The job's output folder (with job.toml and state/)")
-      ->required();
+  cmd->add_option("-o,--output", args->request.dir, "The job's output folder (with job.toml and state/)")->required();
   cmd->add_option("--frames", args->request.frames, "Frames to texture, e.g. 7-12 (default: all of the job's)");
   cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber)

@@ -23,7 +23,7 @@ namespace {
 /// may give them differently. The exemplar is compared by content and the
 /// frames by their own rule.
 bool outside_contract(const std::string& name) {
-  static const std::set<std::string> names = {"output", "resume",    "force",  "keep-state",
+  static const std::set<std::string> names = {"output",  "resume",      "force",  "keep-state",
                                               "threads", "debug-views", "frames", "exemplar"};
   return names.count(name) > 0;
 }
@@ -89,8 +89,8 @@ std::string job_record_toml(const JobRecord& record) {
          "# fluidtex run --resume and fluidtex synth refuse to continue a job that differs.\n"
          "[job]\n"
          "version=" +
-         d::toml_string("version", record.version) + "\nexemplar-sha1=" +
-         d::toml_string("exemplar-sha1", record.exemplar_sha1) +
+         d::toml_string("version", record.version) +
+         "\nexemplar-sha1=" + d::toml_string("exemplar-sha1", record.exemplar_sha1) +
          "\nframes=" + d::toml_string("frames", format_frame_range(record.frames)) + "\n";
 }
 
@@ -129,7 +129,7 @@ void check_resumable(const JobRecord& job, const JobRecord& given) {
                                ": resume it with that build" + restart);
   }
   JobOptions a = job.options, b = given.options;  // the tables bind mutable fields
-  a.output.dir = b.output.dir;  // the job is the one in this folder, however it is spelled
+  a.output.dir = b.output.dir;                    // the job is the one in this folder, however it is spelled
   const std::vector<OptionRef> ta = option_table(a), tb = option_table(b);
   for (std::size_t i = 0; i < ta.size(); ++i) {
     const std::string name = ta[i].info.name;
@@ -140,11 +140,11 @@ void check_resumable(const JobRecord& job, const JobRecord& given) {
                                " in the job" + restart);
   }
   if (job.exemplar_sha1 != given.exemplar_sha1) {
-    const std::string problem =
-        job.exemplar_sha1.empty()     ? "the job has no exemplar"
-        : given.exemplar_sha1.empty() ? "the job was made with one (" + job.options.exemplar + ")"
-                                      : "its content differs from the job's (sha1 " + given.exemplar_sha1 +
-                                            ", the job's " + job.exemplar_sha1 + ")";
+    const std::string problem = job.exemplar_sha1.empty() ? "the job has no exemplar"
+                                : given.exemplar_sha1.empty()
+                                    ? "the job was made with one (" + job.options.exemplar + ")"
+                                    : "its content differs from the job's (sha1 " + given.exemplar_sha1 +
+                                          ", the job's " + job.exemplar_sha1 + ")";
     throw InputError(path, "--exemplar: " + problem + restart);
   }
   const std::size_t n = std::min(job.frames.size(), given.frames.size());

@@ -162,9 +162,9 @@ struct Work {
   std::shared_ptr<const FrameMesh> mesh;
   FrameStats stats;
   std::shared_ptr<const SurfaceIndex> surface;
-  std::vector<Patch> patches;  // patches
-  TrackingOptions resolved;    // patches
-  FlowMapFrame flow;           // flowmap
+  std::vector<Patch> patches;    // patches
+  TrackingOptions resolved;      // patches
+  FlowMapFrame flow;             // flowmap
   Tracker::UnpackedState state;  // patches: the tracker's state, packed in texture(), written last
   std::string packed_state;
 };
@@ -352,8 +352,9 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
   namespace fs = std::filesystem;
   const fs::path out(options.output.dir);
   std::size_t stale = 0;
-  for (const fs::path& dir : {out, out / "state", out / "aov", out / "stats", fs::path(options.output.atlas()).parent_path(),
-                              fs::path(options.output.mesh()).parent_path()}) {
+  for (const fs::path& dir :
+       {out, out / "state", out / "aov", out / "stats", fs::path(options.output.atlas()).parent_path(),
+        fs::path(options.output.mesh()).parent_path()}) {
     stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
   }
   return stale;

@@ -48,8 +48,8 @@ JobOptions synthesis_job(const JobRecord& record, const std::string& dir) {
   }
   const std::string sha1 = file_sha1(options.exemplar);
   if (sha1 != record.exemplar_sha1) {
-    throw InputError(options.exemplar, "the exemplar changed since the job was tracked (sha1 " + sha1 +
-                                           ", the job's " + record.exemplar_sha1 + ")");
+    throw InputError(options.exemplar, "the exemplar changed since the job was tracked (sha1 " + sha1 + ", the job's " +
+                                           record.exemplar_sha1 + ")");
   }
   options.output.dir = dir;
   options.output.resume = false;

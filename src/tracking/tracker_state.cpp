@@ -44,9 +44,7 @@ constexpr std::size_t stream_of() {
   return alignof(T) >= 8 ? 0 : alignof(T) == 4 ? 1 : 2;
 }
 
-void append_raw(std::string& out, const void* data, std::size_t n) {
-  out.append(static_cast<const char*>(data), n);
-}
+void append_raw(std::string& out, const void* data, std::size_t n) { out.append(static_cast<const char*>(data), n); }
 
 std::uint64_t checksum(const std::array<std::string, kStreams>& streams) {
   std::uint64_t h = 0;
@@ -326,8 +324,8 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     const std::size_t nv = p.projections.size();
     p.positions.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
-    bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv &&
-              p.weight.size() == nv && p.rest.size() == p.triangles.size() && known;
+    bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
+              p.rest.size() == p.triangles.size() && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }

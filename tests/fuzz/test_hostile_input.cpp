@@ -548,8 +548,8 @@ TEST(KillAndRerun, ASynthStepFinishesTheSame) {
   const int frames = 6;
   test::write_rotation_scene(dir.path(), frames, 16);
   auto run = [&](const std::string& out, const std::string& extra) {
-    std::vector<std::string> a{"run",          "-q",  "-i",     "rotation.####.ply", "-e", "ex.png", "-o",
-                               out,            "--atlas-size", "128", "--seed", "3"};
+    std::vector<std::string> a{"run", "-q",     "-i", "rotation.####.ply", "-e", "ex.png", "-o", out, "--atlas-size",
+                               "128", "--seed", "3"};
     if (!extra.empty()) a.push_back(extra);
     return a;
   };

@@ -70,8 +70,7 @@ TEST(Farm, TrackThenSynthInAnySplitEqualsOneRun) {
     SCOPED_TRACE(name);
     ASSERT_EQ(run_fluidtex(run + "-o " + q(dir.file(name)) + " --track-only", &out), 0) << out;
     for (const std::string& c : chunks) {
-      ASSERT_EQ(run_fluidtex("synth -q -o " + q(dir.file(name)) + (c.empty() ? "" : " --frames " + c), &out), 0)
-          << out;
+      ASSERT_EQ(run_fluidtex("synth -q -o " + q(dir.file(name)) + (c.empty() ? "" : " --frames " + c), &out), 0) << out;
     }
     expect_same_files(dir.path() / "full", dir.path() / name, frame_files());
     // Each chunk wrote its own stats file, one line per frame.
@@ -107,8 +106,8 @@ TEST(Farm, ResumeRefusesEveryOptionThatChangesTheOutput) {
   job.version = version_line();
   job.frames = {1, 2, 3, 4};
   JobOptions probe = base;
-  const std::set<std::string> free = {"output", "resume", "force", "keep-state", "threads", "debug-views",
-                                      "frames", "exemplar"};
+  const std::set<std::string> free = {"output",  "resume",      "force",  "keep-state",
+                                      "threads", "debug-views", "frames", "exemplar"};
   int checked = 0;
   const std::vector<OptionRef> table = option_table(probe);
   for (std::size_t i = 0; i < table.size(); ++i) {
@@ -245,8 +244,8 @@ TEST(Farm, OffATerminalEveryFrameLogsOneLine) {
   const std::string run = scene(dir);
   std::string out;
   // run_fluidtex captures stderr through a pipe: not a terminal.
-  ASSERT_EQ(run_fluidtex(run.substr(0, run.find(" -q")) + run.substr(run.find(" -q") + 3) + "-o " +
-                             q(dir.file("a")) + " --track-only",
+  ASSERT_EQ(run_fluidtex(run.substr(0, run.find(" -q")) + run.substr(run.find(" -q") + 3) + "-o " + q(dir.file("a")) +
+                             " --track-only",
                          &out),
             0)
       << out;

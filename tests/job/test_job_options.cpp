@@ -6,8 +6,8 @@
 
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/job/job_record.h"
-#include "fluidtex/util/version.h"
 #include "fluidtex/job/pipeline.h"
+#include "fluidtex/util/version.h"
 #include "test_util.h"
 
 namespace fluidtex {

@@ -66,9 +66,10 @@ TEST(AtomicFile, StaleTemporariesOfThisMachineGoAndOtherMachinesOnlyWhenOwned) {
   for (const std::string& n : names) test::write_file(dir.path() / n, "x");
   const auto owned = [](const std::string& target) { return target == "atlas.0005.exr"; };
   EXPECT_EQ(remove_stale_temporaries(dir.path(), owned), 3u);
-  EXPECT_EQ(test::list_dir(dir.path()), (std::vector<std::string>{".atlas.0002.tmp-" + live + "-0-" + host_name() + ".exr",
-                                                                   ".atlas.0004.tmp-" + dead + "-0-othernode.exr",
-                                                                   ".job.tmp-x-1.toml", "atlas.0001.exr"}));
+  EXPECT_EQ(test::list_dir(dir.path()),
+            (std::vector<std::string>{".atlas.0002.tmp-" + live + "-0-" + host_name() + ".exr",
+                                      ".atlas.0004.tmp-" + dead + "-0-othernode.exr", ".job.tmp-x-1.toml",
+                                      "atlas.0001.exr"}));
 }
 
 }  // namespace

@@ -30,14 +30,14 @@ inline constexpr EnumName<KeepState> kKeepStateNames[] = {{KeepState::All, "all"
 constexpr const auto& enum_names(KeepState) { return kKeepStateNames; }
 
 struct OutputOptions {
-  std::string dir;                   ///< -o: output folder
-  std::string atlas_pattern;         ///< --atlas; empty = DIR/atlas.####.exr
-  std::string mesh_pattern;          ///< --mesh; empty = DIR/mesh.####.obj
-  bool resume = false;               ///< --resume: continue the job in OUT after its last complete frame
-  bool force = false;                ///< --force: replace another job's outputs in OUT
+  std::string dir;                        ///< -o: output folder
+  std::string atlas_pattern;              ///< --atlas; empty = DIR/atlas.####.exr
+  std::string mesh_pattern;               ///< --mesh; empty = DIR/mesh.####.obj
+  bool resume = false;                    ///< --resume: continue the job in OUT after its last complete frame
+  bool force = false;                     ///< --force: replace another job's outputs in OUT
   KeepState keep_state = KeepState::All;  ///< --keep-state
-  bool debug_views = false;          ///< --debug-views: patch/disk PLYs per frame
-  bool write_state = true;           ///< OUT/state/patches.####.bin after every frame (not an option)
+  bool debug_views = false;               ///< --debug-views: patch/disk PLYs per frame
+  bool write_state = true;                ///< OUT/state/patches.####.bin after every frame (not an option)
 
   /// The effective patterns (defaults filled in); InputError when a given
   /// pattern has no frame token or an unsupported extension.

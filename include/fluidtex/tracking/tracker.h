@@ -18,8 +18,8 @@
 /// hash of (seed, frame, item), so results are identical for any thread count.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
