@@ -362,6 +362,16 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
 
 namespace {
 
+/// What the log says of a finished frame.
+FrameReport frame_report(const JobOptions& options, const Work& work) {
+  FrameReport done;
+  done.step = options.synthesis.track_only ? "track" : "run";
+  done.frame = work.frame;
+  done.seconds = seconds_since(work.started);
+  if (options.method == TexturingMethod::Patches) done.patches = work.stats.patches.total();
+  return done;
+}
+
 /// The job record this run writes, once the output folder is its own: with
 /// --resume the job in OUT must be this one (check_resumable); without, OUT
 /// must hold no other job's outputs unless --force (claim_output_folder).
@@ -445,12 +455,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     committed = work->index + 1;
     stats.add(work->stats);
     ++summary.frames;
-    FrameReport done;
-    done.step = options.method == TexturingMethod::FlowMap ? "run" : options.synthesis.track_only ? "track" : "run";
-    done.frame = work->frame;
-    done.seconds = seconds_since(work->started);
-    if (options.method == TexturingMethod::Patches) done.patches = work->stats.patches.total();
-    reporter.frame_done(done);
+    reporter.frame_done(frame_report(options, *work));
     reporter.progress(work->index + 1, sequence.size(), "written");
   };
   try {

@@ -78,19 +78,19 @@ struct SynthWork {
 
 }  // namespace
 
-JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
-  const auto start = Clock::now();
-  const JobRecord record = read_job_record(request.dir);
-  const JobOptions options = synthesis_job(record, request.dir);
-  const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
-  const std::string frames_text = format_frame_range(record.frames);
+namespace {
 
-  // Every frame is checked before anything is written.
+/// The requested frames that need texturing, every one checked before
+/// anything is written: InputError for a frame outside the job or without a
+/// state (unless --prune-state removed it after texturing the frame).
+std::vector<int> frames_to_synthesise(const JobRecord& record, const JobOptions& options,
+                                      const std::vector<int>& wanted, const SynthRequest& request, Reporter& reporter) {
   std::vector<int> todo;
   for (int f : wanted) {
     if (!std::binary_search(record.frames.begin(), record.frames.end(), f)) {
-      throw InputError(job_record_path(request.dir),
-                       "--frames: frame " + std::to_string(f) + " is not one of the job's frames " + frames_text);
+      throw InputError(job_record_path(request.dir), "--frames: frame " + std::to_string(f) +
+                                                         " is not one of the job's frames " +
+                                                         format_frame_range(record.frames));
     }
     const std::string state = state_path(request.dir, f);
     if (fs::exists(state)) {
@@ -106,20 +106,36 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
     throw InputError(state, "missing: frame " + std::to_string(f) +
                                 " was not tracked (run the tracking step, or finish it with run --resume)");
   }
-  const Sequence sequence(options.input);
-  const Exemplar exemplar = load_exemplar(options.exemplar, options.synthesis.displacement);
+  return todo;
+}
 
-  // This step's files: its frames' outputs and its stats file. Temporaries
-  // another machine left for them are this step's to remove (a re-run after
-  // a killed task lands anywhere on the farm).
-  const std::string stats_path = synth_stats_path(request.dir, wanted);
+/// Removes the temporaries an interrupted step left for this step's files
+/// (its frames' outputs and its stats file): another machine's too, as a
+/// re-run after a killed task lands anywhere on the farm.
+void remove_own_temporaries(const JobOptions& options, const std::vector<int>& frames, const std::string& stats_path,
+                            Reporter& reporter) {
   std::set<std::string> owned = {fs::path(stats_path).filename().string()};
-  for (int f : todo) {
+  for (int f : frames) {
     for (const fs::path& p : frame_outputs(options, f)) owned.insert(p.filename().string());
   }
   if (const std::size_t stale =
           remove_interrupted_temporaries(options, [&](const std::string& name) { return owned.count(name) > 0; }))
     reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted step");
+}
+
+}  // namespace
+
+JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
+  const auto start = Clock::now();
+  const JobRecord record = read_job_record(request.dir);
+  const JobOptions options = synthesis_job(record, request.dir);
+  const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
+  const std::vector<int> todo = frames_to_synthesise(record, options, wanted, request, reporter);
+  const Sequence sequence(options.input);
+  const Exemplar exemplar = load_exemplar(options.exemplar, options.synthesis.displacement);
+
+  const std::string stats_path = synth_stats_path(request.dir, wanted);
+  remove_own_temporaries(options, todo, stats_path, reporter);
   StatsWriter stats(stats_path, true);
 
   JobSummary summary;
