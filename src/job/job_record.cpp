@@ -201,6 +201,23 @@ std::size_t claim_output_folder(const JobOptions& options) {
   }
   std::sort(files.begin(), files.end());
   files.erase(std::unique(files.begin(), files.end()), files.end());
+  // The job's inputs are never its outputs (an OBJ sequence named like the
+  // UV meshes, in the output folder): refused rather than replaced.
+  std::error_code ec;
+  const auto canonical = [&](const fs::path& p) {
+    const fs::path c = fs::weakly_canonical(p, ec);
+    return ec ? fs::absolute(p).lexically_normal() : c;
+  };
+  std::set<fs::path> inputs;
+  const FramePattern input(options.input.pattern);
+  for (int f : input.discover()) inputs.insert(canonical(input.path(f)));
+  if (!options.exemplar.empty()) inputs.insert(canonical(options.exemplar));
+  for (const fs::path& f : files) {
+    if (inputs.count(canonical(f))) {
+      throw InputError(f.string(),
+                       "an input of the job is also one of its outputs (choose another -o, --atlas or --mesh)");
+    }
+  }
   if (files.empty()) return 0;
   if (!options.output.force) {
     const fs::path record = job_record_path(options.output.dir);

@@ -235,6 +235,15 @@ TEST(Farm, ARunNeverLeavesAnotherJobsOutputsBehind) {
   EXPECT_EQ(read_job_record(out_dir).frames, (std::vector<int>{1, 2, 3}));
   EXPECT_EQ(read_job_record(out_dir).options.seed, 5u);
   EXPECT_EQ(read_job_record(out_dir).exemplar_sha1, file_sha1(dir.file("ex.png")));
+  // An input is never an output, not even with --force.
+  test::write_rotation_scene(dir.path() / "in", 2, 8);
+  const std::string in = dir.file("in/rotation.####.ply");
+  EXPECT_EQ(run_fluidtex("run -q -i " + q(in) + " -e " + q(dir.file("ex.png")) + " -o " + q(dir.file("in")) +
+                             " --mesh " + q(in) + " --force",
+                         &out),
+            2);
+  EXPECT_NE(out.find("an input of the job is also one of its outputs"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir.path() / "in" / "rotation.0002.ply"));
   // --resume and --force together make no sense.
   EXPECT_EQ(run_fluidtex(run + "-o " + q(out_dir) + " --resume --force", &out), 2) << out;
 }
