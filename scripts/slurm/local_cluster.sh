@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A one-machine Slurm cluster for tests, run as root from Debian's packages
 # (slurmctld, slurmd, slurm-client, munge): its own munge key and socket,
-# config, spool, state and logs under DIR, nothing system-wide.
+# config, spool, state and logs under DIR, nothing system-wide; the node is
+# reached on 127.0.0.1 (no name lookup).
 #
 #   scripts/slurm/local_cluster.sh start DIR   # then: export SLURM_CONF=DIR/slurm.conf
 #   scripts/slurm/local_cluster.sh stop DIR    # kills the daemons by their pid files
@@ -49,7 +50,7 @@ munged --force --key-file="$dir/munge/munge.key" --socket="$dir/munge/munge.sock
 
 cat >"$dir/slurm.conf" <<CONF
 ClusterName=fluidtex
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
 SlurmctldPort=$base
@@ -73,7 +74,7 @@ JobCompType=jobcomp/none
 AccountingStorageType=accounting_storage/none
 ReturnToService=2
 MinJobAge=600
-NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem State=UNKNOWN
 PartitionName=local Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 CONF
 export SLURM_CONF=$dir/slurm.conf
