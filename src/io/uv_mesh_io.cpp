@@ -237,9 +237,9 @@ void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh) {
   write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, bytes); });
 }
 
-void write_uv_mesh(const std::string& path, const UVMesh& mesh) {
+void write_uv_mesh(const std::string& path, const UVMesh& mesh, const std::string& mtl_image) {
   const std::string ext = lower_extension(path);
-  if (ext == ".obj") return write_uv_mesh_obj(path, mesh);
+  if (ext == ".obj") return write_uv_mesh_obj(path, mesh, mtl_image);
   if (ext == ".ply") return write_uv_mesh_ply(path, mesh);
   throw InputError(path,
                    "unsupported UV mesh extension '" + fs::path(path).extension().string() + "' (use .obj or .ply)");

@@ -178,6 +178,7 @@ std::vector<fs::path> existing_job_outputs(const JobOptions& options) {
   add_pattern(state_pattern(options.output.dir));
   add_pattern(options.output.atlas());
   add_pattern(options.output.mesh());
+  add_pattern(material_pattern(options.output.mesh()));
   for (const char* layer : {"weight", "count", "patch"}) add_pattern((out / "aov" / layer).string() + ".####.exr");
   for (const char* view : {"patches", "disks"}) add_pattern((out / "debug" / view).string() + ".####.ply");
   for (const char* name : {"metrics.jsonl", "summary.json", "report.html"}) add_file(out / "eval" / name);

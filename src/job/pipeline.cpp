@@ -25,12 +25,22 @@
 
 namespace fluidtex {
 
+std::vector<std::string> frame_output_patterns(const JobOptions& options) {
+  std::vector<std::string> patterns = {options.output.atlas(), options.output.mesh()};
+  if (lower_extension(patterns[1]) == ".obj") patterns.push_back(material_pattern(patterns[1]));
+  for (const std::string& layer : options.synthesis.aov)
+    patterns.push_back(options.output.dir + "/aov/" + layer + ".####.exr");
+  return patterns;
+}
+
+std::string material_pattern(const std::string& obj_pattern) {
+  return std::filesystem::path(obj_pattern).replace_extension(".mtl").string();
+}
+
 void remove_frame_outputs(const JobOptions& options, int frame) {
   std::error_code ec;
-  std::filesystem::remove(FramePattern(options.output.atlas()).path(frame), ec);
-  std::filesystem::remove(FramePattern(options.output.mesh()).path(frame), ec);
-  for (const std::string& layer : options.synthesis.aov)
-    std::filesystem::remove(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), ec);
+  for (const std::string& pattern : frame_output_patterns(options))
+    std::filesystem::remove(FramePattern(pattern).path(frame), ec);
 }
 
 std::string state_pattern(const std::string& dir) { return dir + "/state/patches.####.bin"; }
@@ -109,7 +119,10 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
     aov_write.depth = layer == "patch" ? PixelDepth::Default : PixelDepth::Float;
     write_image(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), image, aov_write);
   }
-  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas));
+  // An OBJ names its atlas through a material (<stem>.mtl, map_Kd), so a DCC
+  // imports it textured.
+  const std::string atlas_path = std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string();
+  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas), atlas_path);
   stats.seconds.emplace_back("write", seconds_since(t0));
 
   stats.uncovered_fraction = result.uncovered_fraction();

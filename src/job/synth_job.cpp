@@ -59,12 +59,11 @@ JobOptions synthesis_job(const JobRecord& record, const std::string& dir) {
   return options;
 }
 
-/// The output files of `frame` (atlas, AOVs, UV mesh).
+/// The output files of `frame` (atlas, UV mesh and material, AOVs).
 std::vector<fs::path> frame_outputs(const JobOptions& options, int frame) {
-  std::vector<fs::path> files = {FramePattern(options.output.atlas()).path(frame),
-                                 FramePattern(options.output.mesh()).path(frame)};
-  for (const std::string& layer : options.synthesis.aov)
-    files.emplace_back(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame));
+  std::vector<fs::path> files;
+  for (const std::string& pattern : frame_output_patterns(options))
+    files.emplace_back(FramePattern(pattern).path(frame));
   return files;
 }
 

@@ -187,6 +187,12 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
     EXPECT_TRUE(fs::exists(o / "aov" / ("weight." + n + ".exr"))) << n;
     EXPECT_TRUE(fs::exists(o / "aov" / ("count." + n + ".exr"))) << n;
     EXPECT_TRUE(fs::exists(o / "debug" / ("disks." + n + ".ply"))) << n;
+    // The OBJ names its atlas through a material, relative to its folder.
+    const std::string obj = test::read_file(o / ("mesh." + n + ".obj"));
+    EXPECT_NE(obj.find("mtllib mesh." + n + ".mtl\n"), std::string::npos) << n;
+    EXPECT_NE(obj.find("usemtl "), std::string::npos) << n;
+    const std::string mtl = test::read_file(o / ("mesh." + n + ".mtl"));
+    EXPECT_NE(mtl.find("\nmap_Kd atlas." + n + ".exr\n"), std::string::npos) << mtl;
   }
   const std::string stats = test::read_file(o / "stats.jsonl");
   EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 3) << stats;

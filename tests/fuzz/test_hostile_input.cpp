@@ -448,8 +448,9 @@ std::vector<int> partial_frames(const fs::path& out) {
   for (int f = 1; f <= 5; ++f) {
     const bool atlas = fs::exists(out / FramePattern("atlas.####.exr").path(f));
     const bool mesh = fs::exists(out / FramePattern("mesh.####.obj").path(f));
+    const bool material = fs::exists(out / FramePattern("mesh.####.mtl").path(f));
     const bool state = fs::exists(out / "state" / FramePattern("patches.####.bin").path(f));
-    if (atlas != mesh || (atlas && !state)) partial.push_back(f);
+    if (atlas != mesh || mesh != material || (atlas && !state)) partial.push_back(f);
   }
   return partial;
 }

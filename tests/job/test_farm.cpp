@@ -44,7 +44,8 @@ std::string scene(const test::TempDir& dir) { return scene_run(dir) + kSettings;
 std::vector<std::string> frame_files(int frames = kFrames) {
   std::vector<std::string> names;
   for (int f = 1; f <= frames; ++f) {
-    for (const char* p : {"atlas.####.exr", "mesh.####.obj", "aov/weight.####.exr", "state/patches.####.bin"})
+    for (const char* p :
+         {"atlas.####.exr", "mesh.####.obj", "mesh.####.mtl", "aov/weight.####.exr", "state/patches.####.bin"})
       names.push_back(FramePattern(p).path(f));
   }
   return names;
@@ -225,8 +226,8 @@ TEST(Farm, ARunNeverLeavesAnotherJobsOutputsBehind) {
   // With --force: the earlier job's files are gone, frames 4-6 included.
   ASSERT_EQ(run_fluidtex(bare + "--atlas-size 128 -o " + q(out_dir) + " --frames 1-3 --force --seed 5", &out), 0)
       << out;
-  for (const char* gone : {"atlas.0004.exr", "mesh.0006.obj", "state/patches.0005.bin", "aov/weight.0006.exr",
-                           "debug/patches.0001.ply", "preview/frame.0006.png"}) {
+  for (const char* gone : {"atlas.0004.exr", "mesh.0006.obj", "mesh.0006.mtl", "state/patches.0005.bin",
+                           "aov/weight.0006.exr", "debug/patches.0001.ply", "preview/frame.0006.png"}) {
     EXPECT_FALSE(fs::exists(dir.path() / "out" / gone)) << gone;
   }
   EXPECT_TRUE(fs::exists(dir.path() / "out" / "atlas.0003.exr"));

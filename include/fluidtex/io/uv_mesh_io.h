@@ -42,7 +42,8 @@ void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::s
 void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh);
 
 /// Picks the writer from the extension (.obj or .ply); InputError otherwise.
-void write_uv_mesh(const std::string& path, const UVMesh& mesh);
+/// `mtl_image`: the OBJ's material texture (write_uv_mesh_obj); PLY has none.
+void write_uv_mesh(const std::string& path, const UVMesh& mesh, const std::string& mtl_image = {});
 
 /// Reads a UV mesh written by write_uv_mesh_obj (v, vt, vn, f v/vt/vn) through
 /// OpenMesh; InputError when the file is missing or malformed.

@@ -10,6 +10,7 @@
 
 #include <oneapi/tbb/task_group.h>
 #include <string>
+#include <vector>
 
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
@@ -29,6 +30,13 @@ struct JobSummary {
   int resumed_after = -1;  ///< frame whose state the run resumed from, −1 if none
   double seconds = 0.0;
 };
+
+/// The patterns of the files a job writes per frame besides its state: the
+/// atlas, the UV mesh (and its material for an OBJ), the AOVs.
+std::vector<std::string> frame_output_patterns(const JobOptions& options);
+
+/// The material file next to an OBJ pattern (`mesh.####.obj` → `mesh.####.mtl`).
+std::string material_pattern(const std::string& obj_pattern);
 
 /// Removes the atlas, AOVs and UV mesh of `frame` (when its state could not
 /// be written: a frame is complete with its state, or absent).
