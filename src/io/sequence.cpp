@@ -1,5 +1,8 @@
 #include "fluidtex/io/sequence.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include <cmath>
 #include <filesystem>
 
@@ -34,6 +37,43 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
   for (int f : frames_) require_regular_file(pattern_.path(f), "frame " + std::to_string(f));
 }
 
+namespace {
+
+/// --velocity-from-positions reads vertex i of two frames as one point of
+/// the fluid. A remeshed sequence can keep its vertex count and still
+/// number its vertices anew: its "velocities" are then jumps across the
+/// surface. Between frames that correspond, an edge's two ends move almost
+/// alike (it stretches by a fraction of its length per frame); after a
+/// renumbering its ends land anywhere. So the median over the edges of
+/// |Δ(b − a)| / |b − a| is small for a real sequence and far above 1 for a
+/// renumbered one: above 1 (the median edge changing by its own length in
+/// one step), the sequence is refused.
+void check_correspondence(const FrameMesh& mesh, const std::vector<Vec3>& other, const std::string& path,
+                          const std::string& other_path) {
+  std::vector<double> change;
+  change.reserve(mesh.triangles.size() * 3);
+  for (const Tri& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const double length = (mesh.positions[b] - mesh.positions[a]).norm();
+      if (!(length > 0.0)) continue;
+      change.push_back(((other[b] - other[a]) - (mesh.positions[b] - mesh.positions[a])).norm() / length);
+    }
+  }
+  if (change.empty()) return;
+  auto mid = change.begin() + static_cast<std::ptrdiff_t>(change.size() / 2);
+  std::nth_element(change.begin(), mid, change.end());
+  if (*mid <= 1.0) return;
+  char ratio[32];
+  std::snprintf(ratio, sizeof ratio, "%.3g", *mid);
+  throw InputError(other_path, std::string("--velocity-from-positions: its vertices do not correspond to ") + path +
+                                   "'s (the median edge changes by " + ratio +
+                                   " edge lengths between them: a remeshed sequence that only keeps its vertex "
+                                   "count); take the velocities from the files instead");
+}
+
+}  // namespace
+
 FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
   const int frame = frames_.at(index);
   const std::string path = pattern_.path(frame);
@@ -55,6 +95,7 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
                              std::to_string(mesh.positions.size()) +
                              ": --velocity-from-positions needs a constant vertex count and order");
       }
+      check_correspondence(mesh, other.positions, path, pattern_.path(frames_[i]));
       return std::move(other.positions);
     };
     const std::vector<Vec3> before = positions_of(lo);

@@ -47,8 +47,8 @@ std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
 }  // namespace
 
-std::string file_sha1(const std::string& path) {
-  require_regular_file(path, "file");
+std::string file_sha1(const std::string& path, const std::string& what) {
+  require_regular_file(path, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file");
   OIIO::SHA1 sha;
@@ -77,7 +77,7 @@ JobRecord make_job_record(const JobOptions& options, const std::vector<int>& fra
     *path = comparable_path(*path);
   }
   record.version = version_line();
-  if (!options.exemplar.empty()) record.exemplar_sha1 = file_sha1(options.exemplar);
+  if (!options.exemplar.empty()) record.exemplar_sha1 = file_sha1(options.exemplar, "exemplar");
   record.frames = frames;
   return record;
 }

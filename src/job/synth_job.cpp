@@ -46,7 +46,7 @@ JobOptions synthesis_job(const JobRecord& record, const std::string& dir) {
   if (options.exemplar.empty()) {
     throw InputError(path, "the job has no exemplar: give the tracking step one (run --track-only -e EXEMPLAR)");
   }
-  const std::string sha1 = file_sha1(options.exemplar);
+  const std::string sha1 = file_sha1(options.exemplar, "exemplar");
   if (sha1 != record.exemplar_sha1) {
     throw InputError(options.exemplar, "the exemplar changed since the job was tracked (sha1 " + sha1 + ", the job's " +
                                            record.exemplar_sha1 + ")");

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/tracking/options.h"
@@ -114,6 +116,55 @@ TEST(Sequence, NoFramesIsAnError) {
   InputOptions in;
   in.pattern = dir.file("m.####.ply");
   EXPECT_THROW(Sequence s(in), InputError);
+}
+
+/// An n×n grid in the plane z = 0 as OBJ, moved by `shift` and stretched
+/// along x by `stretch`, its vertices numbered through `order` (vertex k of
+/// the grid is written at position order[k]).
+std::string grid_obj(int n, const Vec3& shift, double stretch, const std::vector<int>& order) {
+  std::vector<Vec3> at(static_cast<std::size_t>(n * n));
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) at[order[y * n + x]] = Vec3(x * stretch, y, 0) + shift;
+  }
+  std::string text;
+  for (const Vec3& p : at) text += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " 0\n";
+  for (int y = 0; y + 1 < n; ++y) {
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = order[y * n + x] + 1, b = order[y * n + x + 1] + 1, c = order[(y + 1) * n + x + 1] + 1,
+                d = order[(y + 1) * n + x] + 1;
+      text += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
+      text += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+    }
+  }
+  return text;
+}
+
+TEST(Sequence, VelocityFromPositionsNeedsVerticesThatCorrespond) {
+  test::TempDir dir;
+  const int n = 8;
+  std::vector<int> order(n * n);
+  for (int k = 0; k < n * n; ++k) order[k] = k;
+  std::vector<int> renumbered = order;
+  std::reverse(renumbered.begin(), renumbered.end());  // the same surface, numbered anew
+  InputOptions in;
+  in.pattern = dir.file("g.####.obj");
+  in.velocity_from_positions = true;
+  in.fps = 10;
+  // Moving by 3 cells and stretching by 30% per frame: fast, but one mesh.
+  for (int f = 1; f <= 3; ++f)
+    test::write_file(dir.path() / FramePattern("g.####.obj").path(f),
+                     grid_obj(n, Vec3(3.0 * f, 0, 0), 1.0 + 0.3 * f, order));
+  const FrameMesh m = Sequence(in).load(1);
+  EXPECT_NEAR(m.velocities[0].x(), 30.0, 1e-3);  // (9 − 3) / 0.2 s for the corner at x = 0
+  // The middle frame renumbered: same vertex count, same surface; refused, naming it.
+  test::write_file(dir.path() / "g.0002.obj", grid_obj(n, Vec3(6, 0, 0), 1.6, renumbered));
+  try {
+    (void)Sequence(in).load(0);
+    FAIL() << "a renumbered frame must be refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), dir.file("g.0002.obj"));
+    EXPECT_NE(e.problem().find("do not correspond"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Options, DefaultsAndValidation) {

@@ -25,8 +25,9 @@ struct JobRecord {
 };
 
 /// SHA-1 of the bytes of `path`, lower-case hex (what `sha1sum` prints);
-/// InputError naming the file when it is not a readable regular file.
-std::string file_sha1(const std::string& path);
+/// InputError naming the file (as `what`) when it is not a readable regular
+/// file.
+std::string file_sha1(const std::string& path, const std::string& what = "file");
 
 /// The record a run of `options` over `frames` writes: the exemplar hashed,
 /// paths made absolute (a synth step may start in another folder), --resume
