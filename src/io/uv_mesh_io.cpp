@@ -43,6 +43,9 @@ void validate(const std::string& path, const UVMesh& mesh) {
   const auto nuv = static_cast<long long>(mesh.uvs.size());
   if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
     fail("UV mesh has " + std::to_string(mesh.normals.size()) + " normals for " + std::to_string(nv) + " vertices");
+  if (!mesh.velocities.empty() && mesh.velocities.size() != mesh.positions.size())
+    fail("UV mesh has " + std::to_string(mesh.velocities.size()) + " velocities for " + std::to_string(nv) +
+         " vertices");
   if (!mesh.uv_triangles.empty() && mesh.uv_triangles.size() != mesh.triangles.size())
     fail("UV mesh has " + std::to_string(mesh.uv_triangles.size()) + " uv triangles for " +
          std::to_string(mesh.triangles.size()) + " triangles");
@@ -194,7 +197,11 @@ std::string ply_bytes(const UVMesh& mesh) {
 
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment fluidtex UV mesh\n";
   out += "element vertex " + std::to_string(keys.size()) + "\n";
+  const bool has_velocity = !mesh.velocities.empty();
   for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) out += std::string("property float ") + p + "\n";
+  if (has_velocity) {
+    for (const char* p : {"vx", "vy", "vz"}) out += std::string("property float ") + p + "\n";
+  }
   out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
   out.reserve(out.size() + keys.size() * 32 + mesh.triangles.size() * 13);
@@ -207,6 +214,9 @@ std::string ply_bytes(const UVMesh& mesh) {
     for (int i = 0; i < 3; ++i) put_f32_le(out, n[i]);
     put_f32_le(out, uv.x());
     put_f32_le(out, uv.y());
+    if (has_velocity) {
+      for (int i = 0; i < 3; ++i) put_f32_le(out, mesh.velocities[v][i]);
+    }
   }
   for (size_t f = 0; f < mesh.triangles.size(); ++f) {
     out += static_cast<char>(3);

@@ -382,6 +382,7 @@ UVMesh atlas_uv_mesh(const SurfaceIndex& surface, const Atlas& atlas) {
   UVMesh out;
   out.positions = mesh.positions;
   out.normals = surface.vertex_normals();
+  out.velocities = mesh.velocities;
   out.triangles = mesh.triangles;
   out.uv_triangles.resize(mesh.triangles.size());
   std::unordered_map<std::uint64_t, int> shared;  // (vertex, chart) -> uv index

@@ -15,6 +15,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "fluidtex/io/image_io.h"
+#include "fluidtex/io/mesh_io.h"
 #include "fluidtex/io/stats.h"
 #include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/util/error.h"
@@ -399,6 +400,31 @@ TEST(UvMeshWriterObj, PositionsKeepFloatPrecision) {
   EXPECT_NE(text.find("v 2 1 -0.001\n"), std::string::npos) << text;
   EXPECT_NE(text.find("vt 0.4 0\n"), std::string::npos) << text;
   EXPECT_EQ(text.find("mtllib"), std::string::npos);
+}
+
+TEST(UvMeshWriterPly, CarriesVelocitiesForMotionBlur) {
+  TempDir dir;
+  UVMesh m = seam_mesh();
+  for (std::size_t v = 0; v < m.positions.size(); ++v) m.velocities.emplace_back(0.5 * v, -1.0, 0.25);
+  const std::string path = dir.file("frame.ply");
+  write_uv_mesh_ply(path, m);
+  EXPECT_NE(read_file(path).find("property float v\nproperty float vx\nproperty float vy\nproperty float vz\n"),
+            std::string::npos);
+  // fluidtex's own reader takes them as the vertices' velocities (seam
+  // copies of a vertex carry its velocity).
+  ReadOptions read;
+  read.clean = false;
+  const FrameMesh back = read_frame(path, read);
+  ASSERT_EQ(back.velocities.size(), back.positions.size());
+  for (std::size_t i = 0; i < back.positions.size(); ++i) {
+    const auto same_place = [&](const Vec3& p) { return p.cast<float>().cast<double>() == back.positions[i]; };
+    const auto v = std::find_if(m.positions.begin(), m.positions.end(), same_place) - m.positions.begin();
+    ASSERT_LT(v, static_cast<long>(m.positions.size())) << i;
+    EXPECT_EQ(back.velocities[i], m.velocities[v].cast<float>().cast<double>()) << i;
+  }
+  // Without velocities the header is the plain one.
+  write_uv_mesh_ply(dir.file("plain.ply"), seam_mesh());
+  EXPECT_EQ(read_file(dir.file("plain.ply")).find("vx"), std::string::npos);
 }
 
 TEST(UvMeshWriterPly, RoundTripThroughOpenMesh) {

@@ -25,6 +25,7 @@ struct UVMesh {
   std::vector<Tri> triangles;     ///< into positions
   std::vector<Vec2> uvs;          ///< atlas coordinates in [0,1]², v up (OBJ convention)
   std::vector<Tri> uv_triangles;  ///< per corner, into uvs; same count as triangles
+  std::vector<Vec3> velocities;   ///< per vertex, scene units per second (the input's); empty: none
 };
 
 /// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`, 1-based), atomically.
@@ -36,7 +37,8 @@ struct UVMesh {
 void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::string& mtl_image = {});
 
 /// Writes a binary little-endian PLY with per-vertex `float x y z nx ny nz u v`
-/// and `list uchar int vertex_indices`, atomically. Vertices are split: one
+/// (then `vx vy vz` when the mesh has velocities, for a renderer's
+/// deformation motion blur) and `list uchar int vertex_indices`, atomically. Vertices are split: one
 /// output vertex per distinct (vertex, uv index) pair used by a corner, in
 /// order of (vertex, uv index); unreferenced vertices are kept with uv (0,0).
 void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh);
