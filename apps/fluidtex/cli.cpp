@@ -278,13 +278,18 @@ void add_synth(CLI::App& app, int& exit_code) {
 
 void add_info(CLI::App& app, int& exit_code) {
   auto in = std::make_shared<InputOptions>();
+  auto json = std::make_shared<bool>(false);
   CLI::App* info = app.add_subcommand("info", "Describe a mesh sequence and the problems found in it");
   add_input_options(info, *in);
-  info->callback([in, &exit_code]() {
+  info->add_flag("--json", *json, "One JSON document on stdout instead of the table (for scripts)");
+  info->callback([in, json, &exit_code]() {
     const Sequence sequence(*in);
     std::vector<FrameInfo> frames(sequence.size());
     for (std::size_t i = 0; i < sequence.size(); ++i) frames[i] = inspect_frame(sequence, i);
-    std::cout << "sequence " << in->pattern << "\n" << format_info(frames, in->fps);
+    if (*json)
+      std::cout << format_info_json(frames, in->fps, in->pattern);
+    else
+      std::cout << "sequence " << in->pattern << "\n" << format_info(frames, in->fps);
     bool bad = false;
     for (const FrameInfo& f : frames) bad = bad || !f.error.empty();
     exit_code = bad ? 2 : 0;

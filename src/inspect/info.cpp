@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "fluidtex/io/stats.h"
 #include "fluidtex/util/error.h"
 
 namespace fluidtex {
@@ -93,6 +94,41 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps) {
   std::snprintf(line, sizeof line, "problems: %zu unreadable, %zu cleaned, %zu non-manifold\n", bad, cleaned,
                 nonmanifold);
   out += line;
+  return out;
+}
+
+namespace {
+
+std::string json_vec3(const Vec3& v) {
+  return "[" + json_number(v.x()) + "," + json_number(v.y()) + "," + json_number(v.z()) + "]";
+}
+
+}  // namespace
+
+std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, const std::string& pattern) {
+  std::size_t errors = 0;
+  std::string out = "{\"sequence\":" + json_string(pattern) + ",\"fps\":" + json_number(fps) + ",\"frames\":[";
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const FrameInfo& f = frames[i];
+    errors += f.error.empty() ? 0 : 1;
+    const auto count = [](std::size_t n) { return static_cast<double>(n); };
+    out += i ? "," : "";
+    out += "{\"frame\":" + std::to_string(f.frame) + ",\"path\":" + json_string(f.path);
+    out += ",\"error\":" + (f.error.empty() ? std::string("null") : json_string(f.error));
+    out += ",\"vertices\":" + std::to_string(f.vertices) + ",\"faces\":" + std::to_string(f.faces);
+    out += ",\"bbox\":{\"min\":" + json_vec3(f.bbox.min) + ",\"max\":" + json_vec3(f.bbox.max) + "}";
+    out += ",\"area\":" + json_number(f.area) + ",\"mean_edge\":" + json_number(f.mean_edge);
+    out += ",\"speed\":" + to_json_object({{"min", f.speed_min}, {"max", f.speed_max}, {"mean", f.speed_mean}});
+    out += ",\"clean\":" + to_json_object({{"merged_vertices", count(f.clean.merged_vertices)},
+                                           {"degenerate_faces", count(f.clean.degenerate_faces)},
+                                           {"duplicate_faces", count(f.clean.duplicate_faces)},
+                                           {"unreferenced_vertices", count(f.clean.unreferenced_vertices)},
+                                           {"nonmanifold_edges", count(f.clean.nonmanifold_edges)},
+                                           {"boundary_edges", count(f.clean.boundary_edges)},
+                                           {"components", static_cast<double>(f.clean.components)}});
+    out += "}";
+  }
+  out += "],\"errors\":" + std::to_string(errors) + "}\n";
   return out;
 }
 

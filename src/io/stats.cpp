@@ -77,6 +77,12 @@ bool frame_of_line(const std::string& line, int* frame) {
 
 }  // namespace
 
+std::string json_number(double v) {
+  std::string out;
+  append_number(out, v);
+  return out;
+}
+
 std::string json_string(const std::string& text) {
   std::string out;
   append_escaped(out, text);

@@ -97,6 +97,18 @@ TEST(Cli, InfoReportsABadFrameAndExits2) {
   EXPECT_EQ(run_fluidtex("info -i " + q(dir.file("rotation.####.ply")), &out), 2);
   EXPECT_NE(out.find("rotation.0003.ply"), std::string::npos) << out;
   EXPECT_NE(out.find("ERROR"), std::string::npos) << out;
+  // --json: one document, the same facts for scripts.
+  EXPECT_EQ(run_fluidtex("info --json -i " + q(dir.file("rotation.####.ply")), &out), 2);
+  EXPECT_TRUE(out.starts_with("{\"sequence\":\"" + dir.file("rotation.####.ply") + "\",\"fps\":24,\"frames\":[{"))
+      << out;
+  EXPECT_TRUE(out.ends_with("],\"errors\":1}\n")) << out;
+  EXPECT_NE(out.find("{\"frame\":1,\"path\":"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"error\":null,\"vertices\":"), std::string::npos) << out;
+  EXPECT_NE(out.find("{\"frame\":3,\"path\":\"" + dir.file("rotation.0003.ply") + "\",\"error\":\""), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("\"speed\":{\"min\":"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '{'), std::count(out.begin(), out.end(), '}')) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
 TEST(Cli, RunMissingInputIsOneLineErrorAndNoOutput) {

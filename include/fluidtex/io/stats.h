@@ -40,6 +40,9 @@ struct FrameStats {
 /// null; keys are JSON-escaped.
 std::string to_json_line(const FrameStats& stats);
 
+/// `v` as to_json_line writes numbers (shortest round trip; null when not finite).
+std::string json_number(double v);
+
 /// `text` as a JSON string: quoted, escaped (UTF-8 passes through).
 std::string json_string(const std::string& text);
 
