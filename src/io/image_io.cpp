@@ -354,7 +354,14 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
   spec.attribute("Software", "fluidtex");
   spec.attribute("DateTime", "");
   switch (format) {
-    case Format::Exr: spec.attribute("compression", "zip"); break;
+    case Format::Exr: {
+      std::string name = enum_name(options.compression);
+      if (options.compression == ExrCompression::Dwaa || options.compression == ExrCompression::Dwab) {
+        name += ":" + std::to_string(options.dwa_level);
+      }
+      spec.attribute("compression", name);
+      break;
+    }
     case Format::Png: spec.attribute("png:compressionLevel", 6); break;
     case Format::Tiff: spec.attribute("compression", "zip"); break;
   }

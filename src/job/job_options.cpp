@@ -50,6 +50,9 @@ void JobOptions::validate() const {
   if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
   (void)output.atlas();
   (void)output.mesh();
+  if (synthesis.compression != ExrCompression::Zip && lower_extension(output.atlas()) != ".exr") {
+    throw InputError("", "--compression: applies to EXR atlases, not " + output.atlas());
+  }
   if (method == TexturingMethod::FlowMap) {
     if (output.resume) throw InputError("", "--resume: --method flowmap keeps no state to resume from");
     if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");

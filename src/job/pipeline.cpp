@@ -112,6 +112,8 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   t0 = Clock::now();
   ImageWriteOptions write;
   write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
+  write.compression = so.compression;
+  write.dwa_level = so.dwa_level;
   write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
   for (const std::string& layer : so.aov) {
     const Image& image = layer == "weight" ? result.weight : layer == "count" ? result.count : result.patch;

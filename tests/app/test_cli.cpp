@@ -260,6 +260,11 @@ TEST(Cli, SameOutputForOneAndTwoThreads) {
     EXPECT_FALSE(a.empty()) << f;
     EXPECT_TRUE(a == b) << f;
   }
+  // A lossy, block-parallel EXR compression too.
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("d1")) + " --threads 1 --frames 1 --compression dwaa", &out), 0);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("d2")) + " --threads 2 --frames 1 --compression dwaa", &out), 0);
+  EXPECT_TRUE(test::read_file(dir.path() / "d1" / "atlas.0001.exr") ==
+              test::read_file(dir.path() / "d2" / "atlas.0001.exr"));
 }
 
 TEST(Cli, CoverageCheckFillsTheHolesThePlainPoissonUpdateLeaves) {

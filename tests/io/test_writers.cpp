@@ -271,6 +271,35 @@ TEST(ImageIoWrite, ChannelNamesAreKeptInExr) {
   EXPECT_EQ(raw.spec.channelnames, (std::vector<std::string>{"u", "v"}));
 }
 
+TEST(ImageIoWrite, EveryExrCompressionReadsBackWithItsName) {
+  TempDir dir;
+  const Image img = test_image(64, 48, 3);
+  for (const std::string& name : enum_choices<ExrCompression>()) {
+    ImageWriteOptions o;
+    o.compression = parse_enum<ExrCompression>(name, "compression");
+    o.dwa_level = 60;
+    const std::string path = dir.file(name + ".exr");
+    write_image(path, img, o);
+    write_image(dir.file(name + ".again.exr"), img, o);
+    EXPECT_EQ(read_file(path), read_file(dir.file(name + ".again.exr"))) << name;  // deterministic
+    const RawImage raw = read_raw(path);
+    EXPECT_EQ(raw.spec.get_string_attribute("compression"), name);
+    if (name == "dwaa" || name == "dwab") EXPECT_EQ(raw.spec.get_float_attribute("openexr:dwaCompressionLevel"), 60.0f);
+    const Image back = read_image(path);
+    ASSERT_EQ(back.pixels.size(), img.pixels.size()) << name;
+    double worst = 0.0, sum = 0.0;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+      const double e = std::abs(static_cast<double>(back.pixels[i]) - img.pixels[i]);
+      worst = std::max(worst, e), sum += e;
+    }
+    const bool lossy = name == "pxr24" || name == "b44" || name == "b44a" || name == "dwaa" || name == "dwab";
+    if (lossy)
+      EXPECT_LT(sum / img.pixels.size(), 0.02) << name;  // mean error of a lossy codec on a noisy image
+    else
+      EXPECT_LT(worst, 1e-3) << name;  // half precision
+  }
+}
+
 TEST(ImageIoDeterminism, SameImageSameBytes) {
   TempDir dir;
   const Image img = test_image(33, 21, 4);

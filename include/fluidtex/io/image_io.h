@@ -24,7 +24,9 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+
 #include <vector>
+#include "fluidtex/util/enum_names.h"
 
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/util/check.h"
@@ -140,6 +142,16 @@ Image read_image(const std::string& path, long long max_pixels = kMaxImagePixels
 
 enum class PixelDepth { Default, Half, Float, UInt8, UInt16 };
 
+/// OpenEXR's compressions (the lossy ones: pxr24 on floats, b44, b44a,
+/// dwaa, dwab).
+enum class ExrCompression { Zip, None, Rle, Zips, Piz, Pxr24, B44, B44a, Dwaa, Dwab };
+inline constexpr EnumName<ExrCompression> kExrCompressionNames[] = {
+    {ExrCompression::Zip, "zip"},   {ExrCompression::None, "none"}, {ExrCompression::Rle, "rle"},
+    {ExrCompression::Zips, "zips"}, {ExrCompression::Piz, "piz"},   {ExrCompression::Pxr24, "pxr24"},
+    {ExrCompression::B44, "b44"},   {ExrCompression::B44a, "b44a"}, {ExrCompression::Dwaa, "dwaa"},
+    {ExrCompression::Dwab, "dwab"}};
+constexpr const auto& enum_names(ExrCompression) { return kExrCompressionNames; }
+
 struct ImageWriteOptions {
   /// Default: half for EXR, uint8 for PNG, uint16 for TIFF. A depth the format
   /// cannot hold (float PNG, integer EXR, half TIFF) is an InputError.
@@ -147,6 +159,10 @@ struct ImageWriteOptions {
   /// Channel names written to the file (EXR keeps them); empty: Y (1), Y,A (2),
   /// R,G,B (3), R,G,B,A (4+, then channelN).
   std::vector<std::string> channel_names;
+  /// EXR compression (other formats ignore it) and, for dwaa/dwab, its level
+  /// (OpenEXR's default 45; higher is smaller and lossier).
+  ExrCompression compression = ExrCompression::Zip;
+  int dwa_level = 45;
 };
 
 /// Writes `image` to `path` atomically (temporary sibling + rename). Throws

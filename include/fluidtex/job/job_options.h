@@ -78,6 +78,8 @@ struct SynthesisJobOptions {
   std::vector<std::string> aov;                      ///< --aov: weight, count, patch
   bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
   bool float_output = false;                         ///< --float: 32-bit EXR/TIFF instead of half / 16-bit
+  ExrCompression compression = ExrCompression::Zip;  ///< --compression (EXR atlases)
+  int dwa_level = 45;                                ///< --dwa-level (dwaa, dwab)
   bool track_only = false;                           ///< --track-only: no atlas, no mesh (state and stats only)
 
   template <class Self, class F>
@@ -102,6 +104,14 @@ struct SynthesisJobOptions {
     f(OptionInfo{.name = "displacement", .help = "Write a one-channel height atlas (the exemplar is turned to grey)"},
       o.displacement);
     f(OptionInfo{.name = "float", .help = "32-bit float EXR/TIFF instead of half / 16-bit"}, o.float_output);
+    f(OptionInfo{.name = "compression",
+                 .help = "EXR atlas compression: zip (lossless, default), none, rle, zips, piz (lossless); pxr24, "
+                         "b44, b44a, dwaa, dwab (lossy; dwaa at --dwa-level 45 is about a quarter of zip's size)"},
+      o.compression);
+    f(OptionInfo{.name = "dwa-level",
+                 .help = "Compression level of dwaa and dwab (OpenEXR's default 45; higher: smaller, lossier)",
+                 .bounds = between(1, 1000)},
+      o.dwa_level);
     f(OptionInfo{.name = "track-only", .help = "Track patches only: state files and stats, no atlas or mesh"},
       o.track_only);
   }
