@@ -149,7 +149,9 @@ struct ConsoleArgs {
                          .help = "text, or json: one JSON object per line on stderr (frames, messages, the error)"},
                         log_format)};
   }
-  ConsoleReporter reporter() const {
+  /// The reporter of the command; from now on main()'s error line follows
+  /// --log-format too.
+  ConsoleReporter open_reporter() const {
     error_format = log_format;
     return ConsoleReporter(verbose ? 1 : 0, quiet, log_format);
   }
@@ -237,7 +239,7 @@ void add_run(CLI::App& app, int& exit_code) {
       exit_code = 0;
       return;
     }
-    ConsoleReporter reporter = args->console.reporter();
+    ConsoleReporter reporter = args->console.open_reporter();
     const auto threads = limit_threads(args->job.threads);
     const JobSummary summary = run_job(args->job, reporter);
     reporter.info("fluidtex: " + std::to_string(summary.frames) + " frames in " + std::to_string(summary.seconds) +
@@ -267,7 +269,7 @@ void add_synth(CLI::App& app, int& exit_code) {
                 "run --resume)");
   for (const OptionRef& ref : args->console.options()) add_table_option(cmd, ref);
   cmd->callback([args, &exit_code]() {
-    ConsoleReporter reporter = args->console.reporter();
+    ConsoleReporter reporter = args->console.open_reporter();
     const auto threads = limit_threads(args->threads);
     const JobSummary summary = synth_job(args->request, reporter);
     reporter.info("fluidtex synth: " + std::to_string(summary.frames) + " frames in " +

@@ -176,10 +176,10 @@ std::vector<fs::path> existing_job_outputs(const JobOptions& options) {
     if (name.starts_with("synth.") && name.ends_with(".jsonl")) files.insert(entry.path());
   }
   add_pattern(state_pattern(options.output.dir));
-  add_pattern(options.output.atlas());
-  add_pattern(options.output.mesh());
-  add_pattern(material_pattern(options.output.mesh()));
-  for (const char* layer : {"weight", "count", "patch"}) add_pattern((out / "aov" / layer).string() + ".####.exr");
+  // Every AOV layer, not only this job's: an earlier job may have had others.
+  JobOptions all_layers = options;
+  all_layers.synthesis.aov = option_detail::split_choices(kAovLayers);
+  for (const std::string& pattern : frame_output_patterns(all_layers)) add_pattern(pattern);
   for (const char* view : {"patches", "disks"}) add_pattern((out / "debug" / view).string() + ".####.ply");
   for (const char* name : {"metrics.jsonl", "summary.json", "report.html"}) add_file(out / "eval" / name);
   add_pattern((out / "eval/preview.####.png").string());

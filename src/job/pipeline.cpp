@@ -153,6 +153,15 @@ void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& f
   });
 }
 
+FrameReport frame_report(const char* step, const FrameStats& stats, Clock::time_point started, bool has_patches) {
+  FrameReport done;
+  done.step = step;
+  done.frame = stats.frame;
+  done.seconds = seconds_since(started);
+  if (has_patches) done.patches = stats.patches.total();
+  return done;
+}
+
 std::shared_ptr<const FrameMesh> read_frame_mesh(const Sequence& sequence, std::size_t index, FrameStats& stats,
                                                  Reporter& reporter) {
   stats.frame = sequence.frames()[index];
@@ -377,16 +386,6 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
 
 namespace {
 
-/// What the log says of a finished frame.
-FrameReport frame_report(const JobOptions& options, const Work& work) {
-  FrameReport done;
-  done.step = options.synthesis.track_only ? "track" : "run";
-  done.frame = work.frame;
-  done.seconds = seconds_since(work.started);
-  if (options.method == TexturingMethod::Patches) done.patches = work.stats.patches.total();
-  return done;
-}
-
 /// The job record this run writes, once the output folder is its own: with
 /// --resume the job in OUT must be this one (check_resumable); without, OUT
 /// must hold no other job's outputs unless --force (claim_output_folder).
@@ -451,18 +450,13 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     reporter.progress(work->index, sequence.size(), "track");
     const double dt = previous_frame == -1 ? 1.0 / options.input.fps
                                            : static_cast<double>(work->frame - previous_frame) / options.input.fps;
-    isolated_stage([&] {
-      method->track(*work, dt, work->index == first, reporter);
-      return 0;
-    });
+    isolated_stage([&] { method->track(*work, dt, work->index == first, reporter); });
     previous_frame = work->frame;
     return work;
   };
   auto texture = [&](WorkPtr work) {
-    return isolated_stage([&] {
-      method->texture(*work);
-      return work;
-    });
+    isolated_stage([&] { method->texture(*work); });
+    return work;
   };
   std::size_t committed = first;  // frames [first, committed) have all their outputs
   auto write = [&](const WorkPtr& work) {
@@ -470,7 +464,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     committed = work->index + 1;
     stats.add(work->stats);
     ++summary.frames;
-    reporter.frame_done(frame_report(options, *work));
+    reporter.frame_done(frame_report(options.synthesis.track_only ? "track" : "run", work->stats, work->started,
+                                     options.method == TexturingMethod::Patches));
     reporter.progress(work->index + 1, sequence.size(), "written");
   };
   try {

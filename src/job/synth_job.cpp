@@ -152,28 +152,25 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
     work->mesh = read_frame_mesh(sequence, work->index, work->stats, reporter);
     return work;
   };
-  auto synthesize_one = [&](WorkPtr work) {
-    const int frame = work->stats.frame;
+  auto synthesize_one = [&](SynthWork& work) {
+    const int frame = work.stats.frame;
     std::optional<Tracker> tracker;
     {
-      const ScopedStage stage(work->stats.seconds, "state");
-      tracker.emplace(Tracker::load(state_path(request.dir, frame), work->mesh));
+      const ScopedStage stage(work.stats.seconds, "state");
+      tracker.emplace(Tracker::load(state_path(request.dir, frame), work.mesh));
     }
-    work->stats.patches = count_states(tracker->patches());
+    work.stats.patches = count_states(tracker->patches());
     synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().method, exemplar, options, frame,
-                     work->stats);
+                     work.stats);
+  };
+  auto texture = [&](WorkPtr work) {
+    isolated_stage([&] { synthesize_one(*work); });
     return work;
   };
-  auto texture = [&](WorkPtr work) { return isolated_stage([&] { return synthesize_one(work); }); };
   auto write = [&](const WorkPtr& work) {
     stats.add(work->stats);
     ++summary.frames;
-    FrameReport done;
-    done.step = "synth";
-    done.frame = work->stats.frame;
-    done.seconds = seconds_since(work->started);
-    done.patches = work->stats.patches.total();
-    reporter.frame_done(done);
+    reporter.frame_done(frame_report("synth", work->stats, work->started, true));
     reporter.progress(summary.frames, todo.size(), "written");
   };
   tbb::parallel_pipeline(3, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &

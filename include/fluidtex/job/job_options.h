@@ -69,6 +69,9 @@ struct OutputOptions {
   }
 };
 
+/// The layers --aov can add (OUT/aov/LAYER.####.exr).
+inline constexpr const char* kAovLayers = "weight, count, patch";
+
 /// How each frame's atlas is made and written (Sec. 6.4).
 struct SynthesisJobOptions {
   AtlasOptions atlas;
@@ -99,7 +102,7 @@ struct SynthesisJobOptions {
       o.method);
     f(OptionInfo{.name = "aov",
                  .help = "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch",
-                 .choices = "weight, count, patch"},
+                 .choices = kAovLayers},
       o.aov);
     f(OptionInfo{.name = "displacement", .help = "Write a one-channel height atlas (the exemplar is turned to grey)"},
       o.displacement);

@@ -5,8 +5,6 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <optional>
-#include <type_traits>
 
 #include <oneapi/tbb/task_group.h>
 #include <string>
@@ -22,6 +20,7 @@
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/util/report.h"
+#include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
@@ -53,6 +52,11 @@ std::string state_path(const std::string& dir, int frame);
 /// counts of `stats`.
 std::shared_ptr<const FrameMesh> read_frame_mesh(const Sequence& sequence, std::size_t index, FrameStats& stats,
                                                  Reporter& reporter);
+
+/// What the log says of a finished frame (Reporter::frame_done): `step`, the
+/// frame of `stats`, the seconds since `started`, its patches when
+/// `has_patches`.
+FrameReport frame_report(const char* step, const FrameStats& stats, Clock::time_point started, bool has_patches);
 
 /// The exemplar as synthesis uses it: read through OpenImageIO, turned to
 /// one channel (Rec. 709 luminance) for displacement.
@@ -86,12 +90,10 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
 /// the stage finishes whole (its frame is then dropped); its own exceptions
 /// still reach the pipeline.
 template <class F>
-auto isolated_stage(F&& f) {
+void isolated_stage(const F& f) {
   tbb::task_group_context context(tbb::task_group_context::isolated);
   tbb::task_group group(context);
-  std::optional<std::invoke_result_t<F&>> result;
-  group.run_and_wait([&] { result.emplace(f()); });
-  return std::move(*result);
+  group.run_and_wait(f);
 }
 
 /// Runs the job (either method). Throws InputError for bad input (before any output is
