@@ -51,7 +51,8 @@ run split-flowmap split --method flowmap
 run drop-flowmap drop --method flowmap
 run merge-flowmap merge --method flowmap
 for scene in rotation split drop merge; do
-  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0
+  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
+    --relax-frames 0
 done
 
 python3 scripts/compare_tables.py "$out"

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Patches (defaults), the paper's per-vertex rules and the flow-map baseline on
+# Patches (defaults), the defaults without plastic relaxation (elastic), the
+# paper's per-vertex rules and the flow-map baseline on
 # the real Mantaflow caches in ../shared/realdata (when present), each run
 # evaluated with `fluidtex eval`; prints the Markdown table of
 # docs/results.md ("Real simulation caches").
@@ -31,7 +32,9 @@ run() {  # name scene [run options...]
 for scene in ${SCENES:-slosh drop obstacle}; do
   [[ -d "$data/blender-$scene" ]] || continue
   run "$scene-patches" "$scene"
-  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0
+  run "$scene-elastic" "$scene" --relax-frames 0
+  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
+    --relax-frames 0
   run "$scene-flowmap" "$scene" --method flowmap
 done
 python3 scripts/realdata_tables.py "$out"

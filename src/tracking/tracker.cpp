@@ -12,6 +12,7 @@
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
+#include "fluidtex/tracking/relaxation.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
@@ -126,8 +127,11 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   const ScopedStage stage(report.seconds, "distortion");
   const TrackingOptions& o = settings_.method;
   std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
+  std::vector<char> relaxed(patches_.size(), 0);
   parallel_each(patches_.size(), [&](std::size_t i) {
     if (is_lost(advected[i])) return;
+    if (o.relax_frames > 0 && !is_fading_out(patches_[i].state))
+      relaxed[i] = relax_patch(patches_[i], 1.0 / o.relax_frames, o.relax_yield(), o);
     distorted[i] = update_distortion(patches_[i], surface, o);
     // The per-vertex rules retire a patch for any vertex lost inside the
     // disk; the patch-scale test weighs the lost part in update_distortion.
@@ -136,6 +140,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
       distorted[i] = RetireCause::VerticesLost;
     }
   });
+  report.relaxed = static_cast<int>(std::count(relaxed.begin(), relaxed.end(), 1));
   std::vector<Patch> kept;
   kept.reserve(patches_.size());
   for (std::size_t i = 0; i < patches_.size(); ++i) {

@@ -2,8 +2,9 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 3): the magic, the version, a checksum of the raw
-// streams (farmhash; damage anywhere is refused, not loaded), then three streams, each
+// Layout (version 4; version 3 had no relax-frames setting): the magic, the
+// version, a checksum of the raw streams (farmhash; damage anywhere is
+// refused, not loaded), then three streams, each
 // compressed with Blosc (byte shuffle + zstd) in chunks: the 8-byte fields
 // (doubles, 64-bit counts), the 4-byte ones (ints, floats) and the bytes.
 // Fields go to their stream in serialisation order, so the reader consumes
@@ -31,7 +32,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};

@@ -75,6 +75,8 @@ struct TrackingOptions {
   double kill_alpha = 0.25;              ///< α: kill distance is (1 − α)·d (Table 4)
   double min_vertex_quality = 0.5;       ///< Q_vmin: a vertex below this distorts its patch (Table 4)
   double selection_margin = 0.6;         ///< β: patch triangles are taken within (1 + β)·d of the centre
+  int relax_frames =
+      8;  ///< plastic patches: stretch beyond the yield relaxes over this many frames (0: off, the paper)
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
@@ -96,6 +98,11 @@ struct TrackingOptions {
   /// Scene units one exemplar tile spans at s = 1: (2 + β)·d, so a patch's
   /// disk shows most of a tile, each patch a different part of it.
   double exemplar_tile_size() const { return (2.0 + selection_margin) * d(); }
+  /// Plastic patches' yield: the Sorkine distortion up to which a triangle
+  /// keeps its uv (relax-frames), where its quality Q_T is halfway between 1
+  /// and Q_vmin (1.5 with the defaults), so a patch relaxes before the
+  /// distortion test could retire it.
+  double relax_yield() const { return max_distortion - (max_distortion - 1.0) * (1.0 + min_vertex_quality) / 2.0; }
 
  private:
   static double length(const std::optional<double>& v, const char* name);
@@ -144,6 +151,14 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                .help = "beta: patch triangles are selected within (1 + beta) x radius of the disk centre",
                .bounds = at_least(0)},
     o.selection_margin);
+  f(OptionInfo{.name = "relax-frames",
+               .help =
+                   "plastic patches: where a patch triangle is stretched beyond the yield (the distortion at which its "
+                   "quality is halfway between 1 and Q_vmin: 1.5 by default), the patch's uv give way by 1/N of the "
+                   "excess per frame, so the patch keeps following the liquid instead of fading out (0: off, the "
+                   "paper)",
+               .bounds = at_least(0)},
+    o.relax_frames);
   f(OptionInfo{.name = "criterion", .help = "Poisson rejection: ellipsoid (paper), sphere, plane"}, o.criterion);
   f(OptionInfo{.name = "fading",
                .help = "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its "

@@ -69,6 +69,7 @@ struct StepReport {
   PatchCounts counts;
   int created = 0;                    ///< new patches this frame (refilled ones included)
   int refilled = 0;                   ///< of those, made by the coverage safety net (refill_bare_faces)
+  int relaxed = 0;                    ///< live patches whose uv relaxed (stretched beyond the yield; relax-frames)
   int removed = 0;                    ///< patches removed (faded out or lost)
   int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
   int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
