@@ -15,6 +15,7 @@
 
 #include <oneapi/tbb/global_control.h>
 
+#include "fluidtex/inspect/compare.h"
 #include "fluidtex/inspect/eval.h"
 #include "fluidtex/inspect/info.h"
 #include "fluidtex/inspect/overlays.h"
@@ -476,6 +477,48 @@ void add_eval(CLI::App& app, int& exit_code) {
   });
 }
 
+void add_compare(CLI::App& app, int& exit_code) {
+  struct CompareArgs {
+    CompareOptions compare;
+    int verbosity = 0;
+    bool quiet = false;
+    int threads = 0;
+  };
+  auto args = std::make_shared<CompareArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "compare",
+      "Compare two runs of the same input where the texture is seen (on the surface, so a different atlas layout is "
+      "not a difference); exit 0 same, 1 differs, 2 bad input");
+  cmd->add_option("golden", args->compare.golden, "The reference run's output folder")->required();
+  cmd->add_option("new", args->compare.candidate, "The run to check")->required();
+  cmd->add_option("--samples", args->compare.samples, "Surface points per frame")
+      ->check(CLI::Range(100, 10000000))
+      ->capture_default_str();
+  cmd->add_option("--seed", args->compare.seed, "Seed of the surface points")->capture_default_str();
+  cmd->add_option("--mean-tolerance", args->compare.mean_tolerance,
+                  "Largest mean colour difference per frame (linear, mean over channels)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  cmd->add_option("--percentile", args->compare.percentile, "Which percentile of the differences to bound")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--percentile-tolerance", args->compare.percentile_tolerance,
+                  "Largest value of that percentile per frame")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
+  cmd->add_flag("-q,--quiet", args->quiet, "Print only the verdict line");
+  cmd->callback([args, &exit_code]() {
+    ConsoleReporter reporter(args->verbosity, args->quiet, LogFormat::Text);
+    const auto threads = limit_threads(args->threads);
+    const Comparison result = compare_runs(args->compare, reporter);
+    const std::string text = format_comparison(result, args->compare);
+    std::cout << (args->quiet ? text.substr(text.rfind('\n', text.size() - 2) + 1) : text);
+    exit_code = result.passed ? 0 : 1;
+  });
+}
+
 }  // namespace
 
 void print_error(const std::string& message, bool internal) {
@@ -491,6 +534,7 @@ void print_error(const std::string& message, bool internal) {
 void add_subcommands(CLI::App& app, int& exit_code) {
   add_preview(app, exit_code);
   add_eval(app, exit_code);
+  add_compare(app, exit_code);
   add_run(app, exit_code);
   add_synth(app, exit_code);
   add_info(app, exit_code);

@@ -183,9 +183,6 @@ void TexturedFrame::color_at(const Vec3& p, float* out) const {
   sample_bilinear(atlas, u_to_px(uv.x(), atlas.width), v_to_py(uv.y(), atlas.height), out);
 }
 
-namespace {
-
-/// Area-weighted random points of `mesh` (face, barycentrics), fixed seed.
 std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int count, std::uint64_t seed,
                                                   std::uint64_t salt) {
   std::vector<double> cumulative;
@@ -207,6 +204,8 @@ std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int cou
   }
   return out;
 }
+
+namespace {
 
 Vec3 point_of(const FrameMesh& mesh, int f, const Vec3& bary, const std::vector<Vec3>& attribute) {
   const Tri& t = mesh.triangles[f];
@@ -689,7 +688,8 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
   return html.str();
 }
 
-/// The frame's atlas and UV mesh as the run wrote them (InputError when missing).
+}  // namespace
+
 TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string& mesh_pattern, int frame) {
   const std::string atlas_path = FramePattern(atlas_pattern).path(frame);
   const std::string mesh_path = FramePattern(mesh_pattern).path(frame);
@@ -699,8 +699,6 @@ TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string
     throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
   return TexturedFrame(read_uv_mesh_obj(mesh_path), read_image(atlas_path, kMaxAtlasPixels));
 }
-
-}  // namespace
 
 EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
   JobOptions job = job_in;

@@ -60,6 +60,15 @@ struct TexturedFrame {
   void color_at(const Vec3& p, float* out) const;
 };
 
+/// `count` area-weighted random points of `mesh` (face, barycentrics); the
+/// same for the same seed and salt.
+std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int count, std::uint64_t seed,
+                                                  std::uint64_t salt);
+
+/// Frame `frame` of a finished run: its atlas and its UV mesh (OBJ) from the
+/// run's patterns; InputError naming the file when one is missing.
+TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string& mesh_pattern, int frame);
+
 struct WarpingError {
   double advected = 0.0;  ///< colour at t vs colour at the advected point at t+1
   double fixed = 0.0;     ///< baseline: the same point, not advected (a texture that does not move)

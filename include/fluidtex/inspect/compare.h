@@ -1,0 +1,56 @@
+/// @file compare.h
+/// @brief `fluidtex compare GOLDEN NEW`: two runs of the same input compared
+/// where the texture is seen, on the surface, so that a different atlas
+/// layout (packing, size, gutter) is not a difference.
+///
+/// Per frame, points are drawn on the golden run's surface (its UV mesh,
+/// area-weighted, fixed seed); each run's colour at a point is its atlas,
+/// bilinearly, at the uv of the closest point of its own UV mesh. The
+/// difference of a point is the mean absolute difference over the channels
+/// (linear values, as the atlases store them). A frame passes when the mean
+/// difference and the chosen percentile of the differences are within their
+/// tolerances.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fluidtex/util/report.h"
+
+namespace fluidtex {
+
+struct CompareOptions {
+  std::string golden;                 ///< the reference run's output folder (with job.toml)
+  std::string candidate;              ///< the run to check
+  int samples = 50000;                ///< surface points per frame
+  std::uint64_t seed = 1;             ///< of the points
+  double mean_tolerance = 0.01;       ///< largest mean difference per frame
+  double percentile = 99.0;           ///< which percentile of the differences is bounded
+  double percentile_tolerance = 0.1;  ///< its largest value per frame
+};
+
+struct FrameComparison {
+  int frame = 0;
+  std::size_t samples = 0;
+  double mean = 0.0;        ///< mean difference
+  double percentile = 0.0;  ///< options.percentile-th percentile of the differences
+  double max = 0.0;
+  bool passed = true;
+};
+
+struct Comparison {
+  std::vector<FrameComparison> frames;
+  bool passed = true;  ///< every frame passed
+};
+
+/// Compares every frame of the golden run with the same frame of the
+/// candidate. InputError (exit 2) when a folder has no job.toml, the two jobs
+/// cover different frames, a mesh is not OBJ, a frame's atlas or mesh is
+/// missing or unreadable, or the atlases have different channel counts.
+Comparison compare_runs(const CompareOptions& options, Reporter& reporter);
+
+/// The per-frame table (Markdown) and the verdict line.
+std::string format_comparison(const Comparison& comparison, const CompareOptions& options);
+
+}  // namespace fluidtex
