@@ -348,16 +348,23 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
   const bool integer = !is_float_type(type);
   spec.attribute("oiio:ColorSpace", integer ? "sRGB" : "Linear");
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  // Byte-identical outputs for golden-file diffs: a constant Software tag (no
-  // version), and an empty DateTime, which stops the EXR and TIFF writers from
-  // stamping the current time into the header.
+  // Byte-identical outputs for golden-file diffs: a constant Software tag (the
+  // caller's metadata says which build), and an empty DateTime, which stops
+  // the EXR and TIFF writers from stamping the current time into the header.
   spec.attribute("Software", "fluidtex");
   spec.attribute("DateTime", "");
+  for (const auto& [name, value] : options.metadata) spec.attribute(name, value);
   switch (format) {
     case Format::Exr: {
+      // Linear values with Rec. 709 / sRGB primaries and a D65 white: what
+      // the exemplars are linearised to (x, y of red, green, blue, white).
+      if (!integer) {
+        static const float rec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+        spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709);
+      }
       std::string name = enum_name(options.compression);
       if (options.compression == ExrCompression::Dwaa || options.compression == ExrCompression::Dwab) {
-        name += ":" + std::to_string(options.dwa_level);
+        name.append(1, ':').append(std::to_string(options.dwa_level));
       }
       spec.attribute("compression", name);
       break;

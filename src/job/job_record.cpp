@@ -45,6 +45,14 @@ std::string contract_value(const JobOptions& o, const OptionRef& ref) {
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
+/// What `sha1sum` prints: the digest in lower-case hex.
+std::string lower_case_digest(OIIO::SHA1& sha) {
+  std::string digest = sha.digest();
+  std::transform(digest.begin(), digest.end(), digest.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return digest;
+}
+
 }  // namespace
 
 std::string file_sha1(const std::string& path, const std::string& what) {
@@ -58,10 +66,26 @@ std::string file_sha1(const std::string& path, const std::string& what) {
     sha.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
   }
   if (in.bad()) throw InputError(path, "read error");
-  std::string digest = sha.digest();
-  std::transform(digest.begin(), digest.end(), digest.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return digest;
+  return lower_case_digest(sha);
+}
+
+std::string settings_hash(const JobRecord& record) {
+  JobOptions o = record.options;  // option_table binds mutable fields
+  OIIO::SHA1 sha;
+  const auto add = [&](const std::string& key, const std::string& value) {
+    const std::string line = key + "=" + value + "\n";
+    sha.append(line.data(), line.size());
+  };
+  add("version", record.version);
+  add("exemplar-sha1", record.exemplar_sha1);
+  for (const OptionRef& ref : option_table(o)) {
+    const std::string name = ref.info.name;
+    // Paths, and whether the frames were textured in the run or by synth.
+    if (outside_contract(name) || name == "input" || name == "atlas" || name == "mesh" || name == "track-only")
+      continue;
+    add(name, ref.text());
+  }
+  return lower_case_digest(sha);
 }
 
 std::string job_record_path(const std::string& run_dir) { return (fs::path(run_dir) / "job.toml").string(); }

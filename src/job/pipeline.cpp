@@ -22,6 +22,7 @@
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/strings.h"
 #include "fluidtex/util/timing.h"
+#include "fluidtex/util/version.h"
 
 namespace fluidtex {
 
@@ -114,6 +115,9 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
   write.compression = so.compression;
   write.dwa_level = so.dwa_level;
+  write.metadata = {{"fluidtex:version", version_line()},
+                    {"fluidtex:frame", std::to_string(frame)},
+                    {"fluidtex:settings", options.output.provenance}};
   write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
   for (const std::string& layer : so.aov) {
     const Image& image = layer == "weight" ? result.weight : layer == "count" ? result.count : result.patch;
@@ -419,15 +423,17 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
   if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
   const JobRecord record = claim_job(options, sequence, reporter);
+  JobOptions stamped = options;  // what the frames are written with
+  stamped.output.provenance = settings_hash(record);
   std::size_t first = 0;
   JobSummary summary;
   std::unique_ptr<Texturing> method;
   if (options.method == TexturingMethod::FlowMap) {
-    method = std::make_unique<FlowMapTexturing>(options, *exemplar);
+    method = std::make_unique<FlowMapTexturing>(stamped, *exemplar);
   } else {
     std::string resumed_state;
     Tracker tracker = start_tracker(options, sequence, reporter, first, summary, resumed_state);
-    method = std::make_unique<PatchTexturing>(std::move(tracker), options, exemplar ? &*exemplar : nullptr,
+    method = std::make_unique<PatchTexturing>(std::move(tracker), stamped, exemplar ? &*exemplar : nullptr,
                                               std::move(resumed_state));
   }
 

@@ -127,7 +127,8 @@ void remove_own_temporaries(const JobOptions& options, const std::vector<int>& f
 JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
   const auto start = Clock::now();
   const JobRecord record = read_job_record(request.dir);
-  const JobOptions options = synthesis_job(record, request.dir);
+  JobOptions options = synthesis_job(record, request.dir);
+  options.output.provenance = settings_hash(record);
   const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
   const std::vector<int> todo = frames_to_synthesise(record, options, wanted, request, reporter);
   const Sequence sequence(options.input);

@@ -6,8 +6,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <regex>
 #include <sstream>
+
+#include <OpenImageIO/imageio.h>
 
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/job/job_record.h"
@@ -81,6 +84,54 @@ TEST(Farm, TrackThenSynthInAnySplitEqualsOneRun) {
       EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), static_cast<long>(frames.size())) << stats;
     }
   }
+}
+
+/// The string attributes and the chromaticities of an atlas, as OIIO reads them.
+std::map<std::string, std::string> atlas_metadata(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in) << path;
+  std::map<std::string, std::string> out;
+  if (!in) return out;
+  const OIIO::ImageSpec& spec = in->spec();
+  for (const char* name : {"oiio:ColorSpace", "Software", "fluidtex:version", "fluidtex:frame", "fluidtex:settings"})
+    out[name] = spec.get_string_attribute(name);
+  if (const OIIO::ParamValue* p = spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8))) {
+    const float* c = static_cast<const float*>(p->data());
+    for (int i = 0; i < 8; ++i) out["chromaticities"] += std::to_string(c[i]).substr(0, 6) + " ";
+  }
+  return out;
+}
+
+TEST(Farm, AtlasesNameTheirColourSpaceBuildFrameAndSettings) {
+  test::TempDir dir;
+  const std::string run = scene(dir);
+  std::string out;
+  ASSERT_EQ(run_fluidtex(run + "-o " + q(dir.file("a")) + " --frames 1-2", &out), 0) << out;
+  auto meta = atlas_metadata(dir.file("a/atlas.0002.exr"));
+  EXPECT_EQ(meta["oiio:ColorSpace"], "Linear");
+  EXPECT_EQ(meta["chromaticities"], "0.6400 0.3300 0.3000 0.6000 0.1500 0.0600 0.3127 0.3290 ");
+  EXPECT_EQ(meta["fluidtex:version"], version_line());
+  EXPECT_EQ(meta["fluidtex:frame"], "2");
+  const std::string settings = meta["fluidtex:settings"];
+  EXPECT_EQ(settings.size(), 40u);
+  EXPECT_EQ(settings, settings_hash(read_job_record(dir.file("a"))));
+  // The same job from another folder (paths are not settings) and through
+  // track + synth stamps the same; another seed does not.
+  test::TempDir elsewhere;
+  fs::copy(dir.path(), elsewhere.path() / "in", fs::copy_options::recursive);
+  const std::string moved = "run -q -i " + q((elsewhere.path() / "in/rotation.####.ply").string()) + " -e " +
+                            q((elsewhere.path() / "in/ex.png").string()) + " --aov weight " + kSettings;
+  ASSERT_EQ(run_fluidtex(moved + "-o " + q(elsewhere.file("b")) + " --frames 1-2", &out), 0) << out;
+  EXPECT_EQ(atlas_metadata(elsewhere.file("b/atlas.0002.exr"))["fluidtex:settings"], settings);
+  EXPECT_EQ(test::read_file(dir.file("a/atlas.0002.exr")), test::read_file(elsewhere.file("b/atlas.0002.exr")));
+  ASSERT_EQ(run_fluidtex(run + "-o " + q(dir.file("c")) + " --frames 1-2 --track-only", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex("synth -q -o " + q(dir.file("c")), &out), 0) << out;
+  EXPECT_EQ(atlas_metadata(dir.file("c/atlas.0001.exr"))["fluidtex:settings"],
+            atlas_metadata(dir.file("a/atlas.0001.exr"))["fluidtex:settings"]);
+  const std::string reseeded = "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("ex.png")) +
+                               " --aov weight --atlas-size 128 --seed 4 ";
+  ASSERT_EQ(run_fluidtex(reseeded + "-o " + q(dir.file("d")) + " --frames 1-2", &out), 0) << out;
+  EXPECT_NE(atlas_metadata(dir.file("d/atlas.0002.exr"))["fluidtex:settings"], settings);
 }
 
 /// A value of `ref` that differs from its current one (for the contract test).

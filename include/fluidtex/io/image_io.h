@@ -163,6 +163,9 @@ struct ImageWriteOptions {
   /// (OpenEXR's default 45; higher is smaller and lossier).
   ExrCompression compression = ExrCompression::Zip;
   int dwa_level = 45;
+  /// Extra string attributes written to the file (EXR and TIFF keep them
+  /// under these names; PNG as text chunks).
+  std::vector<std::pair<std::string, std::string>> metadata;
 };
 
 /// Writes `image` to `path` atomically (temporary sibling + rename). Throws

@@ -38,6 +38,9 @@ struct OutputOptions {
   KeepState keep_state = KeepState::All;  ///< --keep-state
   bool debug_views = false;               ///< --debug-views: patch/disk PLYs per frame
   bool write_state = true;                ///< OUT/state/patches.####.bin after every frame (not an option)
+  /// The job's settings hash (settings_hash in job_record.h), stamped in every
+  /// atlas as `fluidtex:settings` (not an option: run and synth set it).
+  std::string provenance;
 
   /// The effective patterns (defaults filled in); InputError when a given
   /// pattern has no frame token or an unsupported extension.

@@ -29,6 +29,14 @@ struct JobRecord {
 /// file.
 std::string file_sha1(const std::string& path, const std::string& what = "file");
 
+/// A SHA-1 (hex) of what makes a job's outputs what they are: the build
+/// (`version`), the exemplar's content and every option in the contract
+/// except the paths (input, output, atlas and mesh patterns) and
+/// --track-only, so the same job run in another folder or on another
+/// machine, or tracked and then synthesised, has the same hash.
+/// Stamped in the atlases (`fluidtex:settings`).
+std::string settings_hash(const JobRecord& record);
+
 /// The record a run of `options` over `frames` writes: the exemplar hashed,
 /// paths made absolute (a synth step may start in another folder), --resume
 /// and --force reset (job.toml used as a --config never resumes or deletes).
