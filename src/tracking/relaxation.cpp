@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <Eigen/Dense>  // JacobiSVD
 #include <Eigen/Sparse>
@@ -34,26 +35,27 @@ double disk_seen_weight(const Patch& patch, double radius) {
   return sum;
 }
 
-}  // namespace
+/// The least-squares system of one local/global step in the manner of
+/// as-rigid-as-possible flattening (Liu et al. 2008), started from the
+/// current uv. Local: per triangle, the map J from its uv triangle to its
+/// current 3D shape laid flat is A·Σ·Bᵀ (SVD); the target is the uv triangle
+/// whose map has Σ clamped to [1/yield, yield], i.e. the uv edges times
+/// B·Σ_c⁻¹·Σ·Bᵀ. A triangle within the yield keeps its uv edges. Global: the
+/// edges' targets, cotangent-weighted (floored so that obtuse triangles keep
+/// the system definite), plus a faint spring holding each vertex where it is,
+/// which fixes the translation.
+struct PlasticSystem {
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixX2d rhs;
+  bool yielded = false;  ///< some triangle is beyond the yield
+};
 
-bool relax_patch(Patch& patch, double rate, double yield, const TrackingOptions& options) {
-  if (patch.triangles.empty() || !(rate > 0.0)) return false;
+PlasticSystem plastic_system(const Patch& patch, double yield) {
   const std::size_t nv = patch.uvs.size();
-  // One local/global step in the manner of as-rigid-as-possible flattening
-  // (Liu et al. 2008), started from the current uv. Local: per triangle, the
-  // map J from its uv triangle to its current 3D shape laid flat is
-  // A·Σ·Bᵀ (SVD); the target is the uv triangle whose map has Σ clamped to
-  // [1/yield, yield], i.e. the uv edges times B·Σ_c⁻¹·Σ·Bᵀ. A triangle
-  // within the yield keeps its uv edges. Global: uv are solved for in least
-  // squares over all edges, cotangent-weighted (floored so that obtuse
-  // triangles keep the system definite) and held by a faint spring to where
-  // they are, which fixes the translation.
-  using Triplet = Eigen::Triplet<double>;
-  std::vector<Triplet> entries;
-  entries.reserve(12 * patch.triangles.size() + nv);
-  Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(nv, 2);
+  PlasticSystem sys;
+  sys.entries.reserve(12 * patch.triangles.size() + nv);
+  sys.rhs = Eigen::MatrixX2d::Zero(static_cast<Eigen::Index>(nv), 2);
   double scale = 0.0;
-  bool yielded = false;
   for (const Tri& t : patch.triangles) {
     const RestTriangle p = rest_shape(patch.positions[t[0]], patch.positions[t[1]], patch.positions[t[2]]);
     const Vec2 u0 = patch.uvs[t[0]], u1 = patch.uvs[t[1]], u2 = patch.uvs[t[2]];
@@ -67,7 +69,7 @@ bool relax_patch(Patch& patch, double rate, double yield, const TrackingOptions&
       const Eigen::JacobiSVD<Eigen::Matrix2d> svd(flat_edges * uv_edges.inverse(), Eigen::ComputeFullV);
       const Vec2 sigma = svd.singularValues();
       const Vec2 clamped = sigma.cwiseMax(1.0 / yield).cwiseMin(yield);
-      yielded = yielded || clamped != sigma;
+      sys.yielded = sys.yielded || clamped != sigma;
       plastic = svd.matrixV() * sigma.cwiseQuotient(clamped).asDiagonal() * svd.matrixV().transpose();
     }
     for (int k = 0; k < 3; ++k) {
@@ -76,47 +78,64 @@ bool relax_patch(Patch& patch, double rate, double yield, const TrackingOptions&
       const double cot = ei.dot(ej) / (4.0 * area);  // ½ cot of the angle at o
       const double w = std::max(cot, 0.05);
       const int a = t[i], b = t[j];
-      entries.emplace_back(a, a, w), entries.emplace_back(b, b, w);
-      entries.emplace_back(a, b, -w), entries.emplace_back(b, a, -w);
+      sys.entries.emplace_back(a, a, w), sys.entries.emplace_back(b, b, w);
+      sys.entries.emplace_back(a, b, -w), sys.entries.emplace_back(b, a, -w);
       const Vec2 g = plastic * (patch.uvs[a] - patch.uvs[b]);
-      rhs.row(a) += w * g.transpose(), rhs.row(b) -= w * g.transpose();
+      sys.rhs.row(a) += w * g.transpose(), sys.rhs.row(b) -= w * g.transpose();
       scale += w;
     }
   }
-  if (!yielded) return false;  // every triangle within the yield keeps its uv
   const double spring = 1e-10 * scale / static_cast<double>(nv);
   for (std::size_t v = 0; v < nv; ++v) {
-    entries.emplace_back(static_cast<int>(v), static_cast<int>(v), spring);
-    rhs.row(v) += spring * patch.uvs[v].transpose();
+    sys.entries.emplace_back(static_cast<int>(v), static_cast<int>(v), spring);
+    sys.rhs.row(static_cast<Eigen::Index>(v)) += spring * patch.uvs[v].transpose();
   }
-  Eigen::SparseMatrix<double> system(static_cast<int>(nv), static_cast<int>(nv));
-  system.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
-  if (solver.info() != Eigen::Success) return false;
-  const Eigen::MatrixX2d flat = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !flat.allFinite()) return false;
+  return sys;
+}
 
+/// `patch.uvs` moved `rate` of the way to `target` (translated so that the
+/// point at uv 0 stays there), the step halved while it would fold a uv
+/// triangle (the target of a crumpled patch can fold where its triangles'
+/// shapes disagree); nullopt when even rate/8 folds one.
+std::optional<std::vector<Vec2>> step_towards(const Patch& patch, const Eigen::MatrixX2d& target, double rate) {
   std::size_t tri = 0;
   Vec3 bary = Vec3::Zero();
-  if (!locate_origin(patch.uvs, patch.triangles, tri, bary)) return false;
+  if (!locate_origin(patch.uvs, patch.triangles, tri, bary)) return std::nullopt;
   const Tri& c = patch.triangles[tri];
-  const Vec2 centre = bary[0] * flat.row(c[0]).transpose() + bary[1] * flat.row(c[1]).transpose() +
-                      bary[2] * flat.row(c[2]).transpose();
-  // A step that would fold a uv triangle is shortened (the ARAP target of
-  // a crumpled patch can fold where its triangles' shapes disagree).
-  std::vector<Vec2> relaxed(nv);
-  for (double step = rate;; step *= 0.5) {
-    if (step < rate / 8.0) return false;
-    for (std::size_t v = 0; v < nv; ++v) {
-      relaxed[v] = patch.uvs[v] + step * (Vec2(flat.row(v).transpose()) - centre - patch.uvs[v]);
+  const Vec2 centre = bary[0] * target.row(c[0]).transpose() + bary[1] * target.row(c[1]).transpose() +
+                      bary[2] * target.row(c[2]).transpose();
+  std::vector<Vec2> moved(patch.uvs.size());
+  for (double step = rate; step >= rate / 8.0; step *= 0.5) {
+    for (std::size_t v = 0; v < moved.size(); ++v) {
+      const Vec2 to = target.row(static_cast<Eigen::Index>(v)).transpose();
+      moved[v] = patch.uvs[v] + step * (to - centre - patch.uvs[v]);
     }
     const bool folds = std::any_of(patch.triangles.begin(), patch.triangles.end(), [&](const Tri& t) {
-      return !(signed_area(relaxed[t[0]], relaxed[t[1]], relaxed[t[2]]) > 0.0);
+      return !(signed_area(moved[t[0]], moved[t[1]], moved[t[2]]) > 0.0);
     });
-    if (!folds) break;
+    if (!folds) return moved;
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+bool relax_patch(Patch& patch, double rate, double yield, const TrackingOptions& options) {
+  if (patch.triangles.empty() || !(rate > 0.0)) return false;
+  const PlasticSystem sys = plastic_system(patch, yield);
+  if (!sys.yielded) return false;  // every triangle within the yield keeps its uv
+  const auto nv = static_cast<Eigen::Index>(patch.uvs.size());
+  Eigen::SparseMatrix<double> system(nv, nv);
+  system.setFromTriplets(sys.entries.begin(), sys.entries.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
+  if (solver.info() != Eigen::Success) return false;
+  const Eigen::MatrixX2d target = solver.solve(sys.rhs);
+  if (solver.info() != Eigen::Success || !target.allFinite()) return false;
+  std::optional<std::vector<Vec2>> moved = step_towards(patch, target, rate);
+  if (!moved) return false;
+
   const double before = disk_seen_weight(patch, options.d());
-  patch.uvs = std::move(relaxed);
+  patch.uvs = std::move(*moved);
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& k = patch.triangles[t];
     patch.rest[t] = {patch.uvs[k[0]], patch.uvs[k[1]], patch.uvs[k[2]]};

@@ -175,7 +175,7 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
 TEST(RealData, SloshKeepsItsPatchesAndStaysCovered) {
   const auto cut = track_real("slosh", "1-24");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Measured (frames 1-24): births 3.3 % of the live patches per frame, 44 %
+  // Measured before plastic patches (frames 1-24): births 3.3 % of the live patches per frame, 44 %
   // of the first frame's patches kept through the first half swing (the
   // liquid really stretches there, up to D ≈ 2); with the paper's rules
   // (per-vertex motion and test, Eq. 6): 7.9 % and 22 %.
@@ -187,7 +187,7 @@ TEST(RealData, SloshKeepsItsPatchesAndStaysCovered) {
 TEST(RealData, DropChurnStaysBounded) {
   const auto cut = track_real("drop", "1-16");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Measured (frames 1-16, through the impact): births 8.1 % per frame (the
+  // Measured before plastic patches (frames 1-16, through the impact): births 8.1 % per frame (the
   // paper's rules: 13 %), no bare surface (they leave 5.7e-5).
   EXPECT_LE(cut->births_per_live, 0.1);
   EXPECT_EQ(cut->uncovered_max, 0.0);
