@@ -513,8 +513,7 @@ void add_compare(CLI::App& app, int& exit_code) {
     ConsoleReporter reporter(args->verbosity, args->quiet, LogFormat::Text);
     const auto threads = limit_threads(args->threads);
     const Comparison result = compare_runs(args->compare, reporter);
-    const std::string text = format_comparison(result, args->compare);
-    std::cout << (args->quiet ? text.substr(text.rfind('\n', text.size() - 2) + 1) : text);
+    std::cout << (args->quiet ? comparison_verdict(result, args->compare) : format_comparison(result, args->compare));
     exit_code = result.passed ? 0 : 1;
   });
 }

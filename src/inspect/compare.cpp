@@ -43,12 +43,12 @@ FrameComparison compare_frame(const TexturedFrame& golden, const TexturedFrame& 
   tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
     const auto& [f, bary] = points[i];
     const Vec3 p = interpolate(golden.geometry->positions, golden.geometry->triangles[f], bary);
-    float a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0};
+    float a[kMaxLookupChannels], b[kMaxLookupChannels];
     golden.color_at(p, a);
     candidate.color_at(p, b);
     double sum = 0.0;
-    for (int c = 0; c < std::min(channels, 4); ++c) sum += std::abs(double(a[c]) - double(b[c]));
-    difference[i] = sum / std::min(channels, 4);
+    for (int c = 0; c < channels; ++c) sum += std::abs(double(a[c]) - double(b[c]));
+    difference[i] = sum / channels;
   });
   FrameComparison out;
   out.frame = frame;
@@ -94,24 +94,36 @@ Comparison compare_runs(const CompareOptions& options, Reporter& reporter) {
   return out;
 }
 
+namespace {
+
+std::string percentile_name(const CompareOptions& options) {
+  char name[32];
+  std::snprintf(name, sizeof name, "p%g", options.percentile);
+  return name;
+}
+
+}  // namespace
+
+std::string comparison_verdict(const Comparison& comparison, const CompareOptions& options) {
+  const auto failed = std::count_if(comparison.frames.begin(), comparison.frames.end(),
+                                    [](const FrameComparison& f) { return !f.passed; });
+  char verdict[200];
+  std::snprintf(verdict, sizeof verdict, "%s: %ld of %zu frames differ (mean > %g or %s > %g)\n",
+                comparison.passed ? "same" : "differs", static_cast<long>(failed), comparison.frames.size(),
+                options.mean_tolerance, percentile_name(options).c_str(), options.percentile_tolerance);
+  return verdict;
+}
+
 std::string format_comparison(const Comparison& comparison, const CompareOptions& options) {
   std::ostringstream s;
-  char pct[32];
-  std::snprintf(pct, sizeof pct, "p%g", options.percentile);
-  s << "| frame | samples | mean | " << pct << " | max | |\n|---|---|---|---|---|---|\n";
-  int failed = 0;
+  s << "| frame | samples | mean | " << percentile_name(options) << " | max | |\n|---|---|---|---|---|---|\n";
   for (const FrameComparison& f : comparison.frames) {
     char line[160];
     std::snprintf(line, sizeof line, "| %d | %zu | %.5f | %.5f | %.5f | %s |\n", f.frame, f.samples, f.mean,
                   f.percentile, f.max, f.passed ? "ok" : "DIFFERS");
     s << line;
-    failed += !f.passed;
   }
-  char verdict[200];
-  std::snprintf(verdict, sizeof verdict, "%s: %d of %zu frames differ (mean > %g or %s > %g)\n",
-                comparison.passed ? "same" : "differs", failed, comparison.frames.size(), options.mean_tolerance, pct,
-                options.percentile_tolerance);
-  s << verdict;
+  s << comparison_verdict(comparison, options);
   return s.str();
 }
 

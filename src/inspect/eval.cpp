@@ -228,7 +228,7 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
     const auto& [f, bary] = points[i];
     const Vec3 p = point_of(mesh, f, bary, mesh.positions);
     const Vec3 v = point_of(mesh, f, bary, mesh.velocities);
-    float c0[4], c1[4], c2[4], c3[4];
+    float c0[kMaxLookupChannels], c1[kMaxLookupChannels], c2[kMaxLookupChannels], c3[kMaxLookupChannels];
     at_t.color_at(p, c0);
     at_next.color_at(p + v * dt, c1);
     at_next.color_at(p, c2);
@@ -697,7 +697,13 @@ TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string
     throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
   if (!std::filesystem::exists(mesh_path))
     throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
-  return TexturedFrame(read_uv_mesh_obj(mesh_path), read_image(atlas_path, kMaxAtlasPixels));
+  Image atlas = read_image(atlas_path, kMaxAtlasPixels);
+  // Colours are looked up into fixed buffers of kMaxLookupChannels.
+  if (atlas.channels > kMaxLookupChannels) {
+    throw InputError(atlas_path, std::to_string(atlas.channels) + " channels (a fluidtex atlas has at most " +
+                                     std::to_string(kMaxLookupChannels) + ")");
+  }
+  return TexturedFrame(read_uv_mesh_obj(mesh_path), std::move(atlas));
 }
 
 EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {

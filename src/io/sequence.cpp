@@ -1,9 +1,8 @@
 #include "fluidtex/io/sequence.h"
 
 #include <algorithm>
-#include <cstdio>
-
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "fluidtex/io/mesh_io.h"

@@ -85,6 +85,11 @@ TEST_F(Compare, CommandExitsZeroOneOrTwo) {
   EXPECT_EQ(test::run_fluidtex("compare " + golden + " " + (copy.path() / "run").string(), &out), 2);
   EXPECT_NE(out.find("atlas.0003.exr"), std::string::npos) << out;
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  // An atlas with more channels than a colour lookup holds (5) is refused,
+  // not read past its buffer.
+  write_image((copy.path() / "run" / "atlas.0003.exr").string(), Image::blank(8, 8, 5));
+  EXPECT_EQ(test::run_fluidtex("compare " + golden + " " + (copy.path() / "run").string(), &out), 2);
+  EXPECT_NE(out.find("atlas.0003.exr: 5 channels"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -50,7 +50,10 @@ struct Comparison {
 /// missing or unreadable, or the atlases have different channel counts.
 Comparison compare_runs(const CompareOptions& options, Reporter& reporter);
 
-/// The per-frame table (Markdown) and the verdict line.
+/// The verdict line: "same: 0 of N frames differ (...)" or "differs: K of N ...".
+std::string comparison_verdict(const Comparison& comparison, const CompareOptions& options);
+
+/// The per-frame table (Markdown), then the verdict line.
 std::string format_comparison(const Comparison& comparison, const CompareOptions& options);
 
 }  // namespace fluidtex

@@ -65,8 +65,13 @@ struct TexturedFrame {
 std::vector<std::pair<int, Vec3>> surface_samples(const FrameMesh& mesh, int count, std::uint64_t seed,
                                                   std::uint64_t salt);
 
+/// The most channels an atlas may have for TexturedFrame::color_at's callers
+/// (RGBA; fluidtex writes 1, 3 or 4).
+constexpr int kMaxLookupChannels = 4;
+
 /// Frame `frame` of a finished run: its atlas and its UV mesh (OBJ) from the
-/// run's patterns; InputError naming the file when one is missing.
+/// run's patterns; InputError naming the file when one is missing or the
+/// atlas has more than kMaxLookupChannels channels.
 TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string& mesh_pattern, int frame);
 
 struct WarpingError {
