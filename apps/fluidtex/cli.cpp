@@ -311,14 +311,19 @@ void add_gen(CLI::App& app, int& exit_code) {
   for (const std::string& s : scene_names()) scenes += (scenes.empty() ? "" : ", ") + s;
   std::string exemplars;
   for (const std::string& s : exemplar_names()) exemplars += (exemplars.empty() ? "" : ", ") + s;
-  CLI::App* gen = app.add_subcommand("gen", "Write an example scene (PLY sequence with analytic velocities)");
+  CLI::App* gen = app.add_subcommand("gen", "Write an example scene (PLY or VDB sequence with analytic velocities)");
   gen->add_option("scene", args->scene, "Scene: " + scenes)->required();
-  gen->add_option("-o,--output", args->dir, "Output folder (frames are SCENE.####.ply)")->required();
+  gen->add_option("-o,--output", args->dir, "Output folder (frames are SCENE.####.ply or .vdb)")->required();
   gen->add_option("--frames", args->scene_options.frames, "Number of frames")->capture_default_str();
   gen->add_option("--fps", args->scene_options.fps, "Frames per second")->capture_default_str();
   gen->add_option("--resolution", args->scene_options.resolution,
                   "Mesh density: grid cells (2D) or voxels (3D) across the domain")
       ->capture_default_str();
+  gen->add_option("--format", args->scene_options.format,
+                  "ply (x y z vx vy vz) or vdb (level set 'surface' and velocity grid 'vel'; drop only)")
+      ->check(CLI::IsMember({"ply", "vdb"}))
+      ->capture_default_str();
+  gen->add_flag("--staggered", args->scene_options.staggered, "vdb: write the velocity as a staggered (MAC) grid");
   gen->add_option("--exemplar", args->exemplar, "Also write a procedural exemplar OUT/NAME.png: " + exemplars);
   gen->add_option("--exemplar-size", args->exemplar_size, "Exemplar size in pixels")->capture_default_str();
   gen->add_option("--seed", args->seed, "Seed of the exemplar")->capture_default_str();

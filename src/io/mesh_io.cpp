@@ -352,14 +352,20 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
   require_regular_file(path, "mesh file");
 
   const std::string ext = lower_extension(path);
-  if (ext != ".ply" && ext != ".obj")
-    throw InputError(path, "unknown mesh format '" + ext + "' (expected .ply or .obj)");
-  const std::string bytes = read_bytes(path);
-  if (bytes.empty()) throw InputError(path, "empty file (0 bytes)");
+  if (ext != ".ply" && ext != ".obj" && ext != ".vdb")
+    throw InputError(path, "unknown mesh format '" + ext + "' (expected .ply, .obj or .vdb)");
+  std::error_code ec;
+  if (std::filesystem::file_size(path, ec) == 0 && !ec) throw InputError(path, "empty file (0 bytes)");
 
   std::size_t short_faces = 0;
-  FrameMesh mesh =
-      ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
+  FrameMesh mesh;
+  if (ext == ".vdb") {
+    mesh = read_vdb_frame(path, options.vdb, options.require_velocities);
+  } else {
+    const std::string bytes = read_bytes(path);
+    if (bytes.empty()) throw InputError(path, "empty file (0 bytes)");
+    mesh = ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
+  }
   if (mesh.positions.empty()) throw InputError(path, "empty mesh (no vertices)");
   if (mesh.triangles.empty()) throw InputError(path, "empty mesh (no faces)");
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "fluidtex/io/mesh_io.h"
+#include "fluidtex/io/vdb_io.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 
@@ -14,6 +15,9 @@ namespace fluidtex {
 void InputOptions::validate() const {
   if (pattern.empty()) throw InputError("", "-i/--input: an input frame pattern is required");
   check_options(*this);
+  if (!velocity_vdb.empty() && velocity_from_positions) {
+    throw InputError("", "--velocity-vdb and --velocity-from-positions both give the velocities: choose one");
+  }
 }
 
 Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(options.pattern) {
@@ -34,6 +38,10 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
   // Every frame is a regular file, checked before any output is written (a
   // folder or FIFO named like a frame is an error, never a skipped frame).
   for (int f : frames_) require_regular_file(pattern_.path(f), "frame " + std::to_string(f));
+  if (!options_.velocity_vdb.empty()) {
+    velocity_pattern_.emplace(options_.velocity_vdb);
+    for (int f : frames_) require_regular_file(velocity_pattern_->path(f), "velocity VDB of frame " + std::to_string(f));
+  }
 }
 
 namespace {
@@ -78,9 +86,14 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
   const std::string path = pattern_.path(frame);
   ReadOptions read;
   read.velocity_attr = options_.velocity_attr;
-  read.require_velocities = !options_.velocity_from_positions;
+  read.require_velocities = !options_.velocity_from_positions && !velocity_pattern_;
+  read.vdb = {.surface = options_.vdb_surface,
+              .velocity = options_.vdb_velocity,
+              .iso = options_.vdb_iso,
+              .adaptivity = options_.vdb_adaptivity};
   read.clean = false;  // cleaning renumbers vertices: derive velocities first
   FrameMesh mesh = read_frame(path, read);
+  if (velocity_pattern_) mesh.velocities = read_vdb_velocities(velocity_pattern_->path(frame), read.vdb, mesh.positions);
 
   if (options_.velocity_from_positions && frames_.size() > 1) {
     const std::size_t lo = index > 0 ? index - 1 : index;

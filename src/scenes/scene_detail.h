@@ -9,6 +9,9 @@ namespace fluidtex::detail {
 /// The `drop` scene (scene_drop.cpp): frame is 1-based and already validated.
 FrameMesh make_drop_frame(int frame, const SceneOptions& options);
 
+/// The `drop` scene's voxel size (its level set's, and that of --format vdb).
+double drop_voxel_size(const SceneOptions& options);
+
 /// Scene time of a 1-based frame: (frame - 1) / fps.
 inline double frame_time(int frame, const SceneOptions& options) {
   return static_cast<double>(frame - 1) / options.fps;

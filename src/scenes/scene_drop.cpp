@@ -25,12 +25,11 @@
 // The correction is zero away from the neck.
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/SignedFloodFill.h>
-#include <openvdb/tools/VolumeToMesh.h>
 
+#include "fluidtex/geometry/level_set.h"
 #include "fluidtex/util/error.h"
 #include "scene_detail.h"
 
@@ -112,18 +111,18 @@ struct DropScene {
   }
 };
 
-std::once_flag vdb_once;
-
 }  // namespace
 
+double drop_voxel_size(const SceneOptions& options) { return 2.2 / options.resolution; }
+
 FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
-  std::call_once(vdb_once, [] { openvdb::initialize(); });
+  initialize_openvdb();
   const DropScene scene(options);
   const double t = frame_time(frame, options);
   double z = 0.0, vz = 0.0;
   scene.drop_motion(t, z, vz);
 
-  const double voxel = 2.2 / options.resolution;
+  const double voxel = drop_voxel_size(options);
   const float half_width = static_cast<float>(3.0 * voxel);
   auto grid = openvdb::FloatGrid::create(half_width);
   grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
@@ -157,37 +156,7 @@ FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
   }
   openvdb::tools::signedFloodFill(grid->tree());
 
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> tris;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, 0.0);
-
-  FrameMesh mesh;
-  mesh.positions.reserve(points.size());
-  for (const auto& p : points) mesh.positions.emplace_back(p.x(), p.y(), p.z());
-  mesh.triangles.reserve(2 * quads.size() + tris.size());
-  for (const auto& q : tris) mesh.triangles.push_back({int(q[0]), int(q[1]), int(q[2])});
-  for (const auto& q : quads) {
-    const int a = int(q[0]), b = int(q[1]), c = int(q[2]), d = int(q[3]);
-    const auto& P = mesh.positions;
-    if ((P[a] - P[c]).squaredNorm() <= (P[b] - P[d]).squaredNorm()) {
-      mesh.triangles.push_back({a, b, c});
-      mesh.triangles.push_back({a, c, d});
-    } else {
-      mesh.triangles.push_back({a, b, d});
-      mesh.triangles.push_back({b, c, d});
-    }
-  }
-  // Orientation: normals out of the liquid (positive enclosed volume).
-  double volume6 = 0.0;
-  for (const Tri& f : mesh.triangles) {
-    volume6 += mesh.positions[f[0]].dot(mesh.positions[f[1]].cross(mesh.positions[f[2]]));
-  }
-  if (volume6 < 0.0) {
-    for (Tri& f : mesh.triangles) std::swap(f[1], f[2]);
-  }
-
-  mesh.velocities.resize(mesh.positions.size());
+  FrameMesh mesh = mesh_level_set(*grid);
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     mesh.velocities[v] = scene.velocity(mesh.positions[v], z, vz);
   }

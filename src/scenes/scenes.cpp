@@ -21,6 +21,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "fluidtex/io/vdb_io.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "scene_detail.h"
@@ -351,6 +352,14 @@ void validate(const std::string& scene, const SceneOptions& options) {
   if (!(options.fps > 0.0) || !std::isfinite(options.fps)) {
     throw InputError("", "invalid fps " + std::to_string(options.fps) + " (must be > 0)");
   }
+  if (options.format != "ply" && options.format != "vdb") {
+    throw InputError("", "unknown format '" + options.format + "' (known: ply, vdb)");
+  }
+  if (options.format == "vdb" && scene != "drop") {
+    throw InputError("", "scene '" + scene + "' is a flat open sheet, which a level set cannot hold: --format vdb "
+                         "is for the 3D scene (drop)");
+  }
+  if (options.staggered && options.format != "vdb") throw InputError("", "--staggered needs --format vdb");
 }
 
 // Little-endian binary appends.
@@ -407,16 +416,24 @@ void write_frame_ply(const std::string& path, const FrameMesh& mesh) {
 std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options) {
   validate(scene, options);
   const std::filesystem::path folder(dir.empty() ? "." : dir);
-  std::string pattern = (folder / (scene + ".####.ply")).string();
+  const std::string ext = "." + options.format;
+  std::string pattern = (folder / (scene + ".####" + ext)).string();
   auto frame_path = [&](int frame) {
     char number[32];
     std::snprintf(number, sizeof(number), "%04d", frame);
-    return (folder / (scene + "." + number + ".ply")).string();
+    return (folder / (scene + "." + number + ext)).string();
   };
   // Frames are independent: generate and write them in parallel (the bytes
   // of each file do not depend on the schedule).
-  tbb::parallel_for(1, options.frames + 1,
-                    [&](int frame) { write_frame_ply(frame_path(frame), make_scene_frame(scene, frame, options)); });
+  tbb::parallel_for(1, options.frames + 1, [&](int frame) {
+    const FrameMesh mesh = make_scene_frame(scene, frame, options);
+    if (options.format == "vdb") {
+      write_vdb_frame(frame_path(frame), mesh,
+                      {.voxel_size = detail::drop_voxel_size(options), .staggered = options.staggered});
+    } else {
+      write_frame_ply(frame_path(frame), mesh);
+    }
+  });
   return pattern;
 }
 

@@ -26,6 +26,7 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/scenes/scenes.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -193,6 +194,50 @@ Case scene_case(const std::string& name, std::vector<std::string> extra, const s
             return args;
           },
           names};
+}
+
+/// A run over a two-frame VDB sequence of the generated drop (level set
+/// `surface`, velocity `vel`) with extra arguments, after `damage` changed
+/// the bytes of frame 1.
+Case vdb_case(const std::string& name, std::vector<std::string> extra,
+              std::function<std::string(const std::string&)> damage, const std::string& names = "d.0001.vdb") {
+  return {name,
+          [extra, damage](const fs::path& dir) {
+            SceneOptions scene;
+            scene.frames = 2;
+            scene.resolution = 10;
+            scene.format = "vdb";
+            write_scene("drop", dir.string(), scene);
+            fs::rename(dir / "drop.0001.vdb", dir / "d.0001.vdb");
+            fs::rename(dir / "drop.0002.vdb", dir / "d.0002.vdb");
+            if (damage) test::write_file(dir / "d.0001.vdb", damage(test::read_file(dir / "d.0001.vdb")));
+            write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
+            std::vector<std::string> args{"run", "-q", "-i",           "d.####.vdb", "-e",
+                                          "ex.png", "-o", "out", "--atlas-size", "256"};
+            args.insert(args.end(), extra.begin(), extra.end());
+            return args;
+          },
+          names};
+}
+
+void add_vdb_cases(std::vector<Case>& c) {
+  c.push_back(vdb_case("vdb_good", {}, {}, ""));
+  c.push_back(vdb_case("vdb_text", {}, [](const std::string&) { return std::string("not a vdb\n"); }));
+  c.push_back(vdb_case("vdb_empty", {}, [](const std::string&) { return std::string(); }));
+  // Cut anywhere: in the header, in either grid's descriptor or data.
+  for (int eighth = 1; eighth < 8; ++eighth) {
+    c.push_back(vdb_case("vdb_cut_" + std::to_string(eighth) + "_of_8", {}, [eighth](const std::string& bytes) {
+      return bytes.substr(0, bytes.size() * eighth / 8);
+    }));
+  }
+  c.push_back(vdb_case("vdb_cut_in_header", {}, [](const std::string& bytes) { return bytes.substr(0, 60); }));
+  c.push_back(vdb_case("vdb_no_such_surface", {"--vdb-surface", "phi"}, {}));
+  c.push_back(vdb_case("vdb_no_such_velocity", {"--vdb-velocity", "flow"}, {}));
+  c.push_back(vdb_case("vdb_surface_is_velocity", {"--vdb-surface", "vel"}, {}));
+  c.push_back(vdb_case("vdb_velocity_is_surface", {"--vdb-velocity", "surface"}, {}));
+  c.push_back(vdb_case("vdb_iso_misses_surface", {"--vdb-iso", "1e6"}, {}));
+  c.push_back(vdb_case("vdb_adaptivity_out_of_range", {"--vdb-adaptivity", "2"}, {}, ""));
+  c.push_back(vdb_case("velocity_vdb_missing", {"--velocity-vdb", "nowhere.####.vdb"}, {}, "nowhere.0001.vdb"));
 }
 
 /// The systematic part of the corpus: every field of an ASCII vertex line
@@ -424,6 +469,7 @@ std::vector<Case> cases() {
                          state(std::string("FTXSTATE\x03\0\0\0", 12) + std::string(8, '\0') + "\x10" +
                                std::string(7, '\0') + "\x20" + std::string(7, '\0') + "blosc?garbage")));
   add_generated_cases(c);
+  add_vdb_cases(c);
   c.push_back(scene_case("stale_temporaries_removed", {}, "", [](const fs::path& dir) {
     fs::create_directories(dir / "out");
     test::write_file(dir / "out" / ".atlas.0001.tmp-999999999-3.exr", "half");

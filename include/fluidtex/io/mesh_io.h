@@ -1,7 +1,8 @@
 /// @file mesh_io.h
 /// @brief Reading one frame of a mesh sequence: PLY (ASCII, binary little and
-/// big endian) with per-vertex velocities, or OBJ (positions only, for
-/// `--velocity-from-positions`). Parsing is OpenMesh's; this module validates
+/// big endian) with per-vertex velocities, OBJ (positions only, for
+/// `--velocity-from-positions` or `--velocity-vdb`), or an OpenVDB level set
+/// with a velocity grid (vdb_io.h). Parsing is OpenMesh's; this module validates
 /// the file first (header, property types, expected size of binary bodies) so
 /// that every problem becomes a one-line InputError naming the file.
 /// PLY values keep their declared precision (float or double); OBJ positions
@@ -14,6 +15,7 @@
 
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/geometry/mesh_clean.h"
+#include "fluidtex/io/vdb_io.h"
 
 namespace fluidtex {
 
@@ -32,6 +34,8 @@ struct ReadOptions {
   /// Clean the mesh after reading (see mesh_clean.h).
   bool clean = true;
   CleanOptions clean_options;
+  /// How to read .vdb frames (level set and velocity grids).
+  VdbReadOptions vdb;
 };
 
 /// Reads a frame. Polygons are triangulated (ear clipping in the polygon's

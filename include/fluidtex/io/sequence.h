@@ -5,6 +5,7 @@
 /// whose vertex count and order stay constant).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,11 @@ struct InputOptions {
   std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
   bool velocity_from_positions = false;  ///< derive velocities by central differences
   bool strict = false;                   ///< reject non-manifold frames instead of carrying on
+  std::string vdb_surface;               ///< .vdb input: level-set grid (empty = auto)
+  std::string vdb_velocity;              ///< .vdb input or --velocity-vdb: velocity grid (empty = auto)
+  double vdb_iso = 0.0;                  ///< .vdb input: iso value of the surface
+  double vdb_adaptivity = 0.0;           ///< .vdb input: volumeToMesh adaptivity
+  std::string velocity_vdb;              ///< take velocities from this VDB frame pattern
 
   /// Every field as f(OptionInfo, field) (util/options.h).
   template <class Self, class F>
@@ -42,6 +48,22 @@ struct InputOptions {
                          "count and order; needed for OBJ input)"},
       o.velocity_from_positions);
     f(OptionInfo{.name = "strict", .help = "Reject non-manifold frames instead of carrying on"}, o.strict);
+    f(OptionInfo{.name = "vdb-surface",
+                  .help = "Level-set grid of .vdb input (default: the first level set, or 'surface' or 'phi')"},
+      o.vdb_surface);
+    f(OptionInfo{.name = "vdb-velocity",
+                  .help = "Velocity grid of .vdb input or --velocity-vdb (default: 'vel', 'velocity' or 'v'; "
+                          "a staggered grid is sampled as one)"},
+      o.vdb_velocity);
+    f(OptionInfo{.name = "vdb-iso", .help = "Iso value of the surface in a .vdb level set (world units)"}, o.vdb_iso);
+    f(OptionInfo{.name = "vdb-adaptivity",
+                  .help = "Mesh adaptivity for .vdb input, 0 (uniform) to 1 (fewest polygons on flat parts)",
+                  .bounds = between(0.0, 1.0)},
+      o.vdb_adaptivity);
+    f(OptionInfo{.name = "velocity-vdb",
+                  .help = "Take each frame's velocities from this VDB frame pattern (same frame numbers), "
+                          "sampled at the mesh's vertices"},
+      o.velocity_vdb);
   }
   void validate() const;
 };
@@ -58,7 +80,9 @@ class Sequence {
   std::string path_of(int frame) const { return pattern_.path(frame); }
   const FramePattern& pattern() const { return pattern_; }
 
-  /// Loads frames()[index], cleaned. With velocity_from_positions, velocities
+  /// Loads frames()[index], cleaned. With velocity_vdb, velocities are
+  /// sampled from that pattern's file of the same frame number. With
+  /// velocity_from_positions, velocities
   /// are (p[next] − p[prev]) / (time between them) over the raw vertex order
   /// (one-sided at the ends of the sequence); neighbours with a different
   /// vertex count are an InputError. With `strict`, a non-manifold frame is an
@@ -68,6 +92,7 @@ class Sequence {
  private:
   InputOptions options_;
   FramePattern pattern_;
+  std::optional<FramePattern> velocity_pattern_;
   std::vector<int> frames_;
 };
 

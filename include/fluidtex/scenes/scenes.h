@@ -40,6 +40,11 @@ struct SceneOptions {
   /// domain; 3D: voxels across the domain). Face counts grow as resolution²
   /// for all scenes.
   int resolution = 64;
+  /// File format written by write_scene: "ply" (x y z vx vy vz) or "vdb" (a
+  /// level set `surface` and a velocity grid `vel`; 3D scenes only, whose
+  /// surfaces are closed).
+  std::string format = "ply";
+  bool staggered = false;  ///< vdb: write the velocity as a staggered (MAC) grid
 };
 
 /// Names accepted by make_scene_frame.
@@ -50,7 +55,9 @@ std::vector<std::string> scene_names();
 FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptions& options);
 
 /// Writes frames 1..options.frames as binary PLY (`x y z vx vy vz`, float)
-/// to `dir/<scene>.####.ply`; returns the pattern written.
+/// to `dir/<scene>.####.ply`, or as VDB (the scene's voxel size, velocity
+/// over the level set's narrow band) to `dir/<scene>.####.vdb`; returns the
+/// pattern written.
 std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options);
 
 /// Writes one frame as binary little-endian PLY with float `x y z vx vy vz`,
