@@ -19,8 +19,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <sstream>
 #include <string_view>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
@@ -328,6 +331,38 @@ void linearise(Image& image, const OIIO::ImageSpec& spec) {
 
 }  // namespace
 
+namespace {
+
+/// A tiled (and MIP-mapped) EXR texture through OpenImageIO's make_texture:
+/// 64x64 tiles, box-filtered levels, the file's attributes from `spec`
+/// (its empty DateTime keeps make_texture from stamping the time, so the
+/// bytes stay those of the pixels).
+void write_texture(const std::string& path, const Image& image, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                   TextureLayout layout) {
+  OIIO::ImageSpec float_spec = spec;
+  float_spec.set_format(OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buffer(float_spec);
+  buffer.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, image.pixels.data());
+  OIIO::ImageSpec config;
+  config.tile_width = config.tile_height = 64;
+  config.format = type;
+  config.attribute("maketx:filtername", "box");
+  config.attribute("maketx:nomipmap", layout == TextureLayout::Tiled ? 1 : 0);
+  config.attribute("maketx:compute_average", 0);
+  config.attribute("DateTime", "");
+  if (const OIIO::ParamValue* compression = spec.find_attribute("compression")) {
+    config.attribute("compression", compression->get_string());
+  }
+  write_atomically(path, [&](const fs::path& tmp) {
+    std::ostringstream messages;
+    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, buffer, tmp.string(), config, &messages)) {
+      throw InternalError(path + ": cannot write texture: " + one_line(OIIO::geterror()));
+    }
+  });
+}
+
+}  // namespace
+
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
   const Format format = format_of(path);
   const OIIO::TypeDesc type = pixel_type(path, format, options.depth);
@@ -337,6 +372,12 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
                         std::to_string(image.height) + "x" + std::to_string(image.channels) + " size");
   if (format == Format::Png && image.channels > 4)
     throw InternalError(path + ": PNG holds at most 4 channels, got " + std::to_string(image.channels));
+  // TIFF could hold tiles, but OpenImageIO pads the partial tiles of the
+  // small MIP levels with whatever memory held: the bytes would differ from
+  // run to run.
+  if (format != Format::Exr && options.layout != TextureLayout::Scanline) {
+    throw InputError(path, std::string("a ") + enum_name(options.layout) + " texture is written as .exr");
+  }
 
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
   spec.channelnames = channel_names(image, options, path);
@@ -373,6 +414,10 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
     case Format::Tiff: spec.attribute("compression", "zip"); break;
   }
 
+  if (options.layout != TextureLayout::Scanline) {
+    write_texture(path, image, spec, type, options.layout);
+    return;
+  }
   write_atomically(path, [&](const fs::path& tmp) {
     auto out = OIIO::ImageOutput::create(tmp.string());
     if (!out) throw InternalError(path + ": cannot create image writer: " + one_line(OIIO::geterror()));

@@ -53,6 +53,10 @@ void JobOptions::validate() const {
   if (synthesis.compression != ExrCompression::Zip && lower_extension(output.atlas()) != ".exr") {
     throw InputError("", "--compression: applies to EXR atlases, not " + output.atlas());
   }
+  if (synthesis.layout != TextureLayout::Scanline && lower_extension(output.atlas()) != ".exr") {
+    throw InputError("", std::string("--texture-layout ") + enum_name(synthesis.layout) +
+                             ": tiled and MIP-mapped atlases are EXR, not " + output.atlas());
+  }
   if (method == TexturingMethod::FlowMap) {
     if (output.resume) throw InputError("", "--resume: --method flowmap keeps no state to resume from");
     if (synthesis.track_only) throw InputError("", "--track-only: --method flowmap has no patches to track");

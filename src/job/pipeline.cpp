@@ -115,6 +115,7 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
   write.compression = so.compression;
   write.dwa_level = so.dwa_level;
+  write.layout = so.layout;
   write.metadata = {{"fluidtex:version", version_line()},
                     {"fluidtex:frame", std::to_string(frame)},
                     {"fluidtex:settings", options.output.provenance}};

@@ -265,6 +265,13 @@ TEST(Cli, SameOutputForOneAndTwoThreads) {
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("d2")) + " --threads 2 --frames 1 --compression dwaa", &out), 0);
   EXPECT_TRUE(test::read_file(dir.path() / "d1" / "atlas.0001.exr") ==
               test::read_file(dir.path() / "d2" / "atlas.0001.exr"));
+  // A MIP-mapped texture (levels filtered in parallel).
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("m1")) + " --threads 1 --frames 1 --texture-layout mipmap", &out),
+            0);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("m2")) + " --threads 2 --frames 1 --texture-layout mipmap", &out),
+            0);
+  EXPECT_TRUE(test::read_file(dir.path() / "m1" / "atlas.0001.exr") ==
+              test::read_file(dir.path() / "m2" / "atlas.0001.exr"));
 }
 
 TEST(Cli, CoverageCheckFillsTheHolesThePlainPoissonUpdateLeaves) {

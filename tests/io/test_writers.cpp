@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -297,6 +298,51 @@ TEST(ImageIoWrite, EveryExrCompressionReadsBackWithItsName) {
       EXPECT_LT(sum / img.pixels.size(), 0.02) << name;  // mean error of a lossy codec on a noisy image
     else
       EXPECT_LT(worst, 1e-3) << name;  // half precision
+  }
+}
+
+TEST(ImageIoWrite, TiledAndMipmappedTexturesReadBackWithTheirMetadata) {
+  TempDir dir;
+  const Image img = test_image(200, 120, 3);
+  for (const std::string ext : {".exr"}) {
+    ImageWriteOptions scanline;
+    scanline.metadata = {{"fluidtex:frame", "7"}};
+    write_image(dir.file("scan" + ext), img, scanline);
+    const Image reference = read_image(dir.file("scan" + ext));
+    for (TextureLayout layout : {TextureLayout::Tiled, TextureLayout::Mipmap}) {
+      SCOPED_TRACE(ext + " " + enum_name(layout));
+      ImageWriteOptions o = scanline;
+      o.layout = layout;
+      o.compression = ExrCompression::Piz;
+      const std::string path = dir.file(std::string(enum_name(layout)) + ext);
+      write_image(path, img, o);
+      write_image(path + ".again" + ext, img, o);
+      EXPECT_EQ(read_file(path), read_file(path + ".again" + ext));  // deterministic
+      auto in = OIIO::ImageInput::open(path);
+      ASSERT_TRUE(in);
+      const OIIO::ImageSpec spec = in->spec();
+      EXPECT_EQ(spec.tile_width, 64);
+      EXPECT_EQ(spec.tile_height, 64);
+      int levels = 1;
+      while (in->seek_subimage(0, levels)) ++levels;
+      // 200x120, 100x60, 50x30, 25x15, 12x7, 6x3, 3x1, 1x1.
+      EXPECT_EQ(levels, layout == TextureLayout::Mipmap ? 8 : 1);
+      EXPECT_EQ(spec.get_string_attribute("fluidtex:frame"), "7");
+      EXPECT_EQ(spec.get_string_attribute("oiio:ColorSpace"), "Linear");
+      EXPECT_EQ(spec.get_string_attribute("DateTime"), "");  // no time stamp: reruns give the same bytes
+      EXPECT_EQ(spec.get_string_attribute("compression"), "piz");
+      EXPECT_NE(spec.find_attribute("chromaticities"), nullptr);
+      // The top level holds exactly the scanline file's pixels.
+      const Image back = read_image(path);
+      ASSERT_EQ(back.pixels.size(), reference.pixels.size());
+      EXPECT_TRUE(back.pixels == reference.pixels);
+    }
+  }
+  ImageWriteOptions mip;
+  mip.layout = TextureLayout::Mipmap;
+  for (const char* name : {"no.png", "no.tif"}) {
+    EXPECT_THROW(write_image(dir.file(name), img, mip), InputError);
+    EXPECT_FALSE(std::filesystem::exists(dir.file(name)));
   }
 }
 

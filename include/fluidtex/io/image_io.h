@@ -152,6 +152,15 @@ inline constexpr EnumName<ExrCompression> kExrCompressionNames[] = {
     {ExrCompression::Dwab, "dwab"}};
 constexpr const auto& enum_names(ExrCompression) { return kExrCompressionNames; }
 
+/// How the pixels are laid out in the file: scanlines (what most tools
+/// expect), 64x64 tiles, or 64x64 tiles with every MIP level down to 1x1
+/// (box filter), the texture a production renderer pages in; tiled layouts
+/// are EXR only and are written by OpenImageIO's make_texture.
+enum class TextureLayout { Scanline, Tiled, Mipmap };
+inline constexpr EnumName<TextureLayout> kTextureLayoutNames[] = {
+    {TextureLayout::Scanline, "scanline"}, {TextureLayout::Tiled, "tiled"}, {TextureLayout::Mipmap, "mipmap"}};
+constexpr const auto& enum_names(TextureLayout) { return kTextureLayoutNames; }
+
 struct ImageWriteOptions {
   /// Default: half for EXR, uint8 for PNG, uint16 for TIFF. A depth the format
   /// cannot hold (float PNG, integer EXR, half TIFF) is an InputError.
@@ -166,6 +175,8 @@ struct ImageWriteOptions {
   /// Extra string attributes written to the file (EXR and TIFF keep them
   /// under these names; PNG as text chunks).
   std::vector<std::pair<std::string, std::string>> metadata;
+  /// Scanline, tiled or MIP-mapped (EXR only; other formats: InputError).
+  TextureLayout layout = TextureLayout::Scanline;
 };
 
 /// Writes `image` to `path` atomically (temporary sibling + rename). Throws

@@ -86,6 +86,7 @@ struct SynthesisJobOptions {
   bool float_output = false;                         ///< --float: 32-bit EXR/TIFF instead of half / 16-bit
   ExrCompression compression = ExrCompression::Zip;  ///< --compression (EXR atlases)
   int dwa_level = 45;                                ///< --dwa-level (dwaa, dwab)
+  TextureLayout layout = TextureLayout::Scanline;    ///< --texture-layout
   bool track_only = false;                           ///< --track-only: no atlas, no mesh (state and stats only)
 
   template <class Self, class F>
@@ -118,6 +119,10 @@ struct SynthesisJobOptions {
                  .help = "Compression level of dwaa and dwab (OpenEXR's default 45; higher: smaller, lossier)",
                  .bounds = between(1, 1000)},
       o.dwa_level);
+    f(OptionInfo{.name = "texture-layout",
+                 .help = "Atlas layout: scanline; tiled (64x64 tiles); mipmap (64x64 tiles and every MIP level, the "
+                         "texture renderers page in; EXR atlases)"},
+      o.layout);
     f(OptionInfo{.name = "track-only", .help = "Track patches only: state files and stats, no atlas or mesh"},
       o.track_only);
   }
