@@ -387,7 +387,7 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
     if (n == "a" || n == "alpha") spec.alpha_channel = c;
   }
   const bool integer = !is_float_type(type);
-  spec.attribute("oiio:ColorSpace", integer ? "sRGB" : "Linear");
+  spec.attribute("oiio:ColorSpace", options.data ? "Raw" : integer ? "sRGB" : "Linear");
   spec.attribute("oiio:UnassociatedAlpha", 1);
   // Byte-identical outputs for golden-file diffs: a constant Software tag (the
   // caller's metadata says which build), and an empty DateTime, which stops
@@ -399,7 +399,7 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
     case Format::Exr: {
       // Linear values with Rec. 709 / sRGB primaries and a D65 white: what
       // the exemplars are linearised to (x, y of red, green, blue, white).
-      if (!integer) {
+      if (!integer && !options.data) {
         static const float rec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
         spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709);
       }

@@ -16,6 +16,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <utility>
@@ -96,13 +97,20 @@ std::string texture_reference(const fs::path& obj_path, const std::string& image
   return img.generic_string();
 }
 
-std::string mtl_text(const std::string& texture) {
+std::string mtl_text(const fs::path& obj_path, const MaterialMaps& maps) {
   std::string t = "# fluidtex atlas material\n";
   t += "newmtl ";
   t += kMaterialName;
   t += "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd ";
-  t += texture;
+  t += texture_reference(obj_path, maps.colour);
   t += '\n';
+  if (!maps.displacement.empty()) {
+    const std::string height = texture_reference(obj_path, maps.displacement);
+    char multiplier[64];
+    std::snprintf(multiplier, sizeof multiplier, "%.9g", maps.bump_height);
+    t += "disp " + height + "\nbump -bm " + multiplier + " " + height + "\n";
+  }
+  if (!maps.normal.empty()) t += "norm " + texture_reference(obj_path, maps.normal) + "\n";
   return t;
 }
 
@@ -227,14 +235,14 @@ std::string ply_bytes(const UVMesh& mesh) {
 
 }  // namespace
 
-void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::string& mtl_image) {
+void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const MaterialMaps& maps) {
   validate(path, mesh);
   std::string mtl_file;
-  if (!mtl_image.empty()) {
+  if (!maps.colour.empty()) {
     // The material first, so the OBJ never names a library that is not there.
     fs::path mtl_path = fs::path(path).replace_extension(".mtl");
     mtl_file = mtl_path.filename().string();
-    const std::string text = mtl_text(texture_reference(path, mtl_image));
+    const std::string text = mtl_text(path, maps);
     write_atomically(mtl_path, [&](const fs::path& tmp) { write_bytes(mtl_path.string(), tmp, text); });
   }
   const std::string text = obj_text(mesh, mtl_file);
@@ -247,9 +255,9 @@ void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh) {
   write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, bytes); });
 }
 
-void write_uv_mesh(const std::string& path, const UVMesh& mesh, const std::string& mtl_image) {
+void write_uv_mesh(const std::string& path, const UVMesh& mesh, const MaterialMaps& maps) {
   const std::string ext = lower_extension(path);
-  if (ext == ".obj") return write_uv_mesh_obj(path, mesh, mtl_image);
+  if (ext == ".obj") return write_uv_mesh_obj(path, mesh, maps);
   if (ext == ".ply") return write_uv_mesh_ply(path, mesh);
   throw InputError(path,
                    "unsupported UV mesh extension '" + fs::path(path).extension().string() + "' (use .obj or .ply)");

@@ -35,6 +35,17 @@ std::string OutputOptions::mesh() const {
   return checked_pattern(mesh_pattern, dir + "/mesh.####.obj", {".obj", ".ply"}, "--mesh");
 }
 
+// Heights and normals are data, not colour: EXR keeps them linear (PNG and
+// TIFF atlases are sRGB-encoded).
+std::string OutputOptions::displacement() const {
+  return displacement_pattern.empty() ? std::string()
+                                      : checked_pattern(displacement_pattern, "", {".exr"}, "--displacement-atlas");
+}
+
+std::string OutputOptions::normal() const {
+  return normal_pattern.empty() ? std::string() : checked_pattern(normal_pattern, "", {".exr"}, "--normal-atlas");
+}
+
 void SynthesisJobOptions::validate() const {
   atlas.validate();
   check_options(*this);
@@ -50,6 +61,11 @@ void JobOptions::validate() const {
   if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
   (void)output.atlas();
   (void)output.mesh();
+  (void)output.displacement();
+  (void)output.normal();
+  if ((!output.displacement_pattern.empty() || !output.normal_pattern.empty()) && synthesis.track_only) {
+    throw InputError("", "--displacement-atlas/--normal-atlas: a tracking step (--track-only) writes no atlas");
+  }
   if (synthesis.compression != ExrCompression::Zip && lower_extension(output.atlas()) != ".exr") {
     throw InputError("", "--compression: applies to EXR atlases, not " + output.atlas());
   }

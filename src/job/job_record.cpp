@@ -34,12 +34,20 @@ std::string comparable_path(const std::string& path) {
   return fs::absolute(fs::path(path)).lexically_normal().string();
 }
 
+/// The options that name files: compared as absolute paths, and left out
+/// of the settings hash (the same job run in another folder stamps the same).
+bool is_path_option(const std::string& name) {
+  return name == "input" || name == "velocity-vdb" || name == "atlas" || name == "mesh" ||
+         name == "displacement-atlas" || name == "normal-atlas";
+}
+
 /// The value of option `name` of `o` as the contract compares it.
 std::string contract_value(const JobOptions& o, const OptionRef& ref) {
   const std::string name = ref.info.name;
   if (name == "input") return comparable_path(o.input.pattern);
   if (name == "atlas") return comparable_path(o.output.atlas());
   if (name == "mesh") return comparable_path(o.output.mesh());
+  if (is_path_option(name)) return comparable_path(ref.text());
   return ref.text();
 }
 
@@ -81,8 +89,7 @@ std::string settings_hash(const JobRecord& record) {
   for (const OptionRef& ref : option_table(o)) {
     const std::string name = ref.info.name;
     // Paths, and whether the frames were textured in the run or by synth.
-    if (outside_contract(name) || name == "input" || name == "atlas" || name == "mesh" || name == "track-only")
-      continue;
+    if (outside_contract(name) || is_path_option(name) || name == "track-only") continue;
     add(name, ref.text());
   }
   return lower_case_digest(sha);
@@ -96,8 +103,10 @@ JobRecord make_job_record(const JobOptions& options, const std::vector<int>& fra
   record.options.output.resume = false;
   record.options.output.force = false;
   // Absolute paths: a synth step or a resume may start in another folder.
-  for (std::string* path : {&record.options.input.pattern, &record.options.exemplar, &record.options.output.dir,
-                            &record.options.output.atlas_pattern, &record.options.output.mesh_pattern}) {
+  for (std::string* path :
+       {&record.options.input.pattern, &record.options.input.velocity_vdb, &record.options.exemplar,
+        &record.options.output.dir, &record.options.output.atlas_pattern, &record.options.output.mesh_pattern,
+        &record.options.output.displacement_pattern, &record.options.output.normal_pattern}) {
     *path = comparable_path(*path);
   }
   record.version = version_line();

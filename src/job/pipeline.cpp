@@ -16,6 +16,7 @@
 #include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/debug_views.h"
 #include "fluidtex/job/job_record.h"
+#include "fluidtex/texture/maps.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
@@ -29,6 +30,9 @@ namespace fluidtex {
 std::vector<std::string> frame_output_patterns(const JobOptions& options) {
   std::vector<std::string> patterns = {options.output.atlas(), options.output.mesh()};
   if (lower_extension(patterns[1]) == ".obj") patterns.push_back(material_pattern(patterns[1]));
+  for (const std::string& map : {options.output.displacement(), options.output.normal()}) {
+    if (!map.empty()) patterns.push_back(map);
+  }
   for (const std::string& layer : options.synthesis.aov)
     patterns.push_back(options.output.dir + "/aov/" + layer + ".####.exr");
   return patterns;
@@ -89,10 +93,36 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
 
 namespace {
 
+/// The height and normal atlases of a frame (--displacement-atlas,
+/// --normal-atlas), written as data: linear, no colour space; returns the
+/// material's maps for the OBJ.
+MaterialMaps write_surface_maps(const JobOptions& options, int frame, const Atlas& atlas, const TexelMap& map,
+                                const Image& colour, const ImageWriteOptions& colour_write, double tile_size) {
+  MaterialMaps maps(std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string());
+  const std::string displacement = options.output.displacement(), normal = options.output.normal();
+  if (displacement.empty() && normal.empty()) return maps;
+  maps.bump_height = options.synthesis.bump_height * tile_size;
+  ImageWriteOptions write = colour_write;
+  write.data = true;
+  const Image height = height_map(colour);
+  if (!displacement.empty()) {
+    maps.displacement = std::filesystem::absolute(FramePattern(displacement).path(frame)).string();
+    write.channel_names = {"Y"};
+    write_image(maps.displacement, height, write);
+  }
+  if (!normal.empty()) {
+    maps.normal = std::filesystem::absolute(FramePattern(normal).path(frame)).string();
+    write.channel_names = {"R", "G", "B"};
+    write_image(maps.normal, normal_map(height, map, atlas, maps.bump_height), write);
+  }
+  return maps;
+}
+
 /// A frame's atlas, texel map, texels (`texels(atlas, map)`, either method)
 /// and writes, with the synthesis numbers and stage seconds in `stats`.
+/// `tile_size`: the exemplar's size on the surface (--bump-height's unit).
 template <class Texels>
-void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats,
+void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats, double tile_size,
                  Texels&& texels) {
   const SynthesisJobOptions& so = options.synthesis;
   auto t0 = Clock::now();
@@ -126,10 +156,11 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
     aov_write.depth = layer == "patch" ? PixelDepth::Default : PixelDepth::Float;
     write_image(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), image, aov_write);
   }
-  // An OBJ names its atlas through a material (<stem>.mtl, map_Kd), so a DCC
-  // imports it textured.
-  const std::string atlas_path = std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string();
-  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas), atlas_path);
+  // An OBJ names its atlas through a material (<stem>.mtl, map_Kd; disp,
+  // bump and norm for the height and normal atlases), so a DCC imports it
+  // textured.
+  const MaterialMaps maps = write_surface_maps(options, frame, atlas, map, result.color, write, tile_size);
+  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas), maps);
   stats.seconds.emplace_back("write", seconds_since(t0));
 
   stats.uncovered_fraction = result.uncovered_fraction();
@@ -145,14 +176,15 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
 
 void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches, const TrackingOptions& resolved,
                       const Exemplar& exemplar, const JobOptions& options, int frame, FrameStats& stats) {
-  atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
-    return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
-  });
+  atlas_frame(
+      surface, options, frame, stats, resolved.exemplar_tile_size(), [&](const Atlas& atlas, const TexelMap& map) {
+        return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
+      });
 }
 
 void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
-                              const JobOptions& options, int frame, FrameStats& stats) {
-  atlas_frame(surface, options, frame, stats, [&](const Atlas& atlas, const TexelMap& map) {
+                              const JobOptions& options, int frame, FrameStats& stats, double tile_size) {
+  atlas_frame(surface, options, frame, stats, tile_size, [&](const Atlas& atlas, const TexelMap& map) {
     return synthesize_flowmap(surface, atlas, map, flow, exemplar, options.synthesis.blend,
                               !options.synthesis.aov.empty());
   });
@@ -316,7 +348,8 @@ class FlowMapTexturing final : public Texturing {
   }
 
   void texture(Work& work) const override {
-    synthesize_flowmap_frame(*work.surface, work.flow, exemplar_, options_, work.frame, work.stats);
+    synthesize_flowmap_frame(*work.surface, work.flow, exemplar_, options_, work.frame, work.stats,
+                             advector_.tile_size());
   }
 
   void finish(Work&) const override {}
@@ -384,7 +417,8 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
   std::size_t stale = 0;
   for (const fs::path& dir :
        {out, out / "state", out / "aov", out / "stats", fs::path(options.output.atlas()).parent_path(),
-        fs::path(options.output.mesh()).parent_path()}) {
+        fs::path(options.output.mesh()).parent_path(), fs::path(options.output.displacement()).parent_path(),
+        fs::path(options.output.normal()).parent_path()}) {
     stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
   }
   return stale;

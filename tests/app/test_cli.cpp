@@ -274,6 +274,42 @@ TEST(Cli, SameOutputForOneAndTwoThreads) {
               test::read_file(dir.path() / "m2" / "atlas.0001.exr"));
 }
 
+TEST(Cli, ColourHeightAndNormalAtlasesFromOneRun) {
+  test::TempDir dir;
+  std::string out;
+  const std::string base = rotation_run(dir, 2, 12, 32, 64);
+  const std::string maps = " --displacement-atlas " + q(dir.file("o/h/height.####.exr")) + " --normal-atlas " +
+                           q(dir.file("o/n/normal.$F4.exr")) + " --bump-height 0.5";
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("o")) + maps, &out), 0) << out;
+  const Image colour = read_image(dir.file("o/atlas.0002.exr"));
+  const Image height = read_image(dir.file("o/h/height.0002.exr"));
+  const Image normal = read_image(dir.file("o/n/normal.0002.exr"));
+  ASSERT_EQ(height.channels, 1);
+  ASSERT_EQ(normal.channels, 3);
+  ASSERT_EQ(height.pixels.size() * 3, colour.pixels.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < height.pixels.size(); ++i) {
+    const float* c = colour.pixel(i);
+    worst = std::max(worst, std::abs(height.pixels[i] - (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2])));
+  }
+  EXPECT_LT(worst, 2e-3);  // both stored as half
+  bool tilted = false;
+  for (std::size_t i = 0; i < normal.pixels.size(); i += 3) {
+    const Vec3 n(2.0 * normal.pixels[i] - 1.0, 2.0 * normal.pixels[i + 1] - 1.0, 2.0 * normal.pixels[i + 2] - 1.0);
+    EXPECT_NEAR(n.norm(), 1.0, 3e-3);
+    EXPECT_GT(n.z(), 0.0);
+    tilted = tilted || n.z() < 0.99;
+  }
+  EXPECT_TRUE(tilted);  // the gravel's relief shows
+  const std::string mtl = test::read_file(dir.path() / "o" / "mesh.0002.mtl");
+  EXPECT_NE(mtl.find("\ndisp h/height.0002.exr\n"), std::string::npos) << mtl;
+  EXPECT_NE(mtl.find("\nbump -bm "), std::string::npos) << mtl;
+  EXPECT_NE(mtl.find("\nnorm n/normal.0002.exr\n"), std::string::npos) << mtl;
+  // Heights and normals are data: EXR only.
+  EXPECT_EQ(run_fluidtex(base + "-o " + q(dir.file("p")) + " --normal-atlas " + q(dir.file("p/n.####.png")), &out), 2);
+  EXPECT_NE(out.find("--normal-atlas"), std::string::npos) << out;
+}
+
 TEST(Cli, CoverageCheckFillsTheHolesThePlainPoissonUpdateLeaves) {
   // The merge outline grows faster than patches follow: the plain Poisson
   // update (--no-coverage-check) leaves bare surface, the default fills it.

@@ -465,6 +465,20 @@ TEST(UvMeshWriterObj, FaceTripletsAndMaterial) {
   const std::string mtl = read_file(dir.file("frame.mtl"));
   EXPECT_NE(mtl.find("newmtl fluidtex_atlas\n"), std::string::npos);
   EXPECT_NE(mtl.find("map_Kd atlas_0001.png\n"), std::string::npos) << mtl;  // made relative
+  EXPECT_EQ(mtl.find("disp"), std::string::npos) << mtl;
+  EXPECT_EQ(mtl.find("norm"), std::string::npos) << mtl;
+
+  // Height and normal atlases: disp, bump with its multiplier, norm.
+  MaterialMaps maps((dir.path() / "atlas_0001.exr").string());
+  maps.displacement = (dir.path() / "maps" / "height_0001.exr").string();
+  maps.normal = "normal_0001.exr";
+  maps.bump_height = 0.0125;
+  write_uv_mesh_obj(path, m, maps);
+  const std::vector<std::string> lines = lines_of(read_file(dir.file("frame.mtl")));
+  for (const char* expected : {"map_Kd atlas_0001.exr", "disp maps/height_0001.exr",
+                               "bump -bm 0.0125 maps/height_0001.exr", "norm normal_0001.exr"}) {
+    EXPECT_NE(std::find(lines.begin(), lines.end(), expected), lines.end()) << expected;
+  }
 }
 
 TEST(UvMeshWriterObj, PositionsKeepFloatPrecision) {

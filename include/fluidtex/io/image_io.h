@@ -177,6 +177,9 @@ struct ImageWriteOptions {
   std::vector<std::pair<std::string, std::string>> metadata;
   /// Scanline, tiled or MIP-mapped (EXR only; other formats: InputError).
   TextureLayout layout = TextureLayout::Scanline;
+  /// Data, not colour (heights, normals): `oiio:ColorSpace` is "Raw" and an
+  /// EXR gets no chromaticities.
+  bool data = false;
 };
 
 /// Writes `image` to `path` atomically (temporary sibling + rename). Throws

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fluidtex/geometry/mesh.h"
@@ -28,13 +29,26 @@ struct UVMesh {
   std::vector<Vec3> velocities;   ///< per vertex, scene units per second (the input's); empty: none
 };
 
+/// The images an OBJ's material names: the colour atlas (map_Kd), and when
+/// written a height atlas (disp, and bump with `-bm bump_height`, the scene
+/// height of white above black) and a tangent-space normal atlas (norm).
+struct MaterialMaps {
+  std::string colour;
+  std::string displacement;
+  std::string normal;
+  double bump_height = 1.0;
+  MaterialMaps() = default;
+  MaterialMaps(std::string colour_image) : colour(std::move(colour_image)) {}  // NOLINT: a string names the colour
+  MaterialMaps(const char* colour_image) : colour(colour_image) {}             // NOLINT
+};
+
 /// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`, 1-based), atomically.
-/// With `mtl_image` non-empty, first writes a sibling `<stem>.mtl` (material
-/// "fluidtex_atlas") naming it as map_Kd, and adds `mtllib`/`usemtl` lines.
-/// A relative `mtl_image` is written as given (it should be relative to the
+/// With `maps.colour` non-empty, first writes a sibling `<stem>.mtl` (material
+/// "fluidtex_atlas") naming the maps, and adds `mtllib`/`usemtl` lines.
+/// A relative image path is written as given (it should be relative to the
 /// OBJ's folder, usually the atlas's file name); an absolute one is made
 /// relative to the OBJ's folder.
-void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::string& mtl_image = {});
+void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const MaterialMaps& maps = {});
 
 /// Writes a binary little-endian PLY with per-vertex `float x y z nx ny nz u v`
 /// (then `vx vy vz` when the mesh has velocities, for a renderer's
@@ -44,8 +58,8 @@ void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const std::s
 void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh);
 
 /// Picks the writer from the extension (.obj or .ply); InputError otherwise.
-/// `mtl_image`: the OBJ's material texture (write_uv_mesh_obj); PLY has none.
-void write_uv_mesh(const std::string& path, const UVMesh& mesh, const std::string& mtl_image = {});
+/// `maps`: the OBJ's material textures (write_uv_mesh_obj); PLY has none.
+void write_uv_mesh(const std::string& path, const UVMesh& mesh, const MaterialMaps& maps = {});
 
 /// Reads a UV mesh written by write_uv_mesh_obj (v, vt, vn, f v/vt/vn) through
 /// OpenMesh; InputError when the file is missing or malformed.

@@ -33,6 +33,8 @@ struct OutputOptions {
   std::string dir;                        ///< -o: output folder
   std::string atlas_pattern;              ///< --atlas; empty = DIR/atlas.####.exr
   std::string mesh_pattern;               ///< --mesh; empty = DIR/mesh.####.obj
+  std::string displacement_pattern;       ///< --displacement-atlas; empty = none
+  std::string normal_pattern;             ///< --normal-atlas; empty = none
   bool resume = false;                    ///< --resume: continue the job in OUT after its last complete frame
   bool force = false;                     ///< --force: replace another job's outputs in OUT
   KeepState keep_state = KeepState::All;  ///< --keep-state
@@ -46,6 +48,9 @@ struct OutputOptions {
   /// pattern has no frame token or an unsupported extension.
   std::string atlas() const;
   std::string mesh() const;
+  /// The height and normal atlas patterns (EXR), empty when not written.
+  std::string displacement() const;
+  std::string normal() const;
 
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
@@ -54,6 +59,14 @@ struct OutputOptions {
       o.atlas_pattern);
     f(OptionInfo{.name = "mesh", .help = "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)"},
       o.mesh_pattern);
+    f(OptionInfo{.name = "displacement-atlas",
+                 .help = "Also write a height atlas (the colour's luminance, one channel, .exr) to this pattern, "
+                         "named by the OBJ's material as disp and bump"},
+      o.displacement_pattern);
+    f(OptionInfo{.name = "normal-atlas",
+                 .help = "Also write a tangent-space normal atlas (from the height, --bump-height; .exr) to this "
+                         "pattern, named by the OBJ's material as norm"},
+      o.normal_pattern);
     f(OptionInfo{.name = "resume",
                  .help = "Continue the job in OUT after its last complete frame (refused when an option that "
                          "changes the output, the exemplar or the build differs from OUT/job.toml)"},
@@ -87,6 +100,7 @@ struct SynthesisJobOptions {
   ExrCompression compression = ExrCompression::Zip;  ///< --compression (EXR atlases)
   int dwa_level = 45;                                ///< --dwa-level (dwaa, dwab)
   TextureLayout layout = TextureLayout::Scanline;    ///< --texture-layout
+  double bump_height = 0.02;                         ///< --bump-height, × the exemplar's size on the surface
   bool track_only = false;                           ///< --track-only: no atlas, no mesh (state and stats only)
 
   template <class Self, class F>
@@ -123,6 +137,11 @@ struct SynthesisJobOptions {
                  .help = "Atlas layout: scanline; tiled (64x64 tiles); mipmap (64x64 tiles and every MIP level, the "
                          "texture renderers page in; EXR atlases)"},
       o.layout);
+    f(OptionInfo{.name = "bump-height",
+                 .help = "Height of white above black in the height and normal atlases, as a fraction of the "
+                         "exemplar's size on the surface",
+                 .bounds = above(0)},
+      o.bump_height);
     f(OptionInfo{.name = "track-only", .help = "Track patches only: state files and stats, no atlas or mesh"},
       o.track_only);
   }

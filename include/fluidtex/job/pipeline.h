@@ -75,7 +75,7 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
 /// The same for the flow-map baseline (flowmap.h): the same atlas, texel
 /// map, writers and stats, the texels from the two advected uv sets.
 void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
-                              const JobOptions& options, int frame, FrameStats& stats);
+                              const JobOptions& options, int frame, FrameStats& stats, double tile_size);
 
 /// Removes the temporaries a killed run or synth left in the job's output
 /// folders (remove_stale_temporaries: this machine's dead writers', and
