@@ -202,10 +202,16 @@ std::string find_surface(VdbFile& file, const VdbReadOptions& options) {
   for (const char* name : {"surface", "phi"}) {
     if (file.has(name)) return name;
   }
+  // Blender's Mantaflow data cache: a staggered `velocity` next to a
+  // `particles` point grid, and no surface at all.
+  const bool mantaflow = file.has("particles") && file.has("velocity");
   throw InputError(file.path(),
                    "no level-set grid (looked for a grid of class level set, or one named 'surface' or "
                    "'phi'; grids in the file: " +
-                       file.listing() + "); name it with --vdb-surface");
+                       file.listing() + "); name it with --vdb-surface" +
+                       (mantaflow ? " (Blender's Mantaflow data cache holds no surface: export the "
+                                    "liquid with scripts/blender/export_fluid.py, see docs/dcc.md)"
+                                  : ""));
 }
 
 openvdb::FloatGrid::Ptr read_surface(VdbFile& file, const std::string& name) {

@@ -253,6 +253,11 @@ TEST(VdbIo, BadGridsAreOneLineErrorsNamingTheFile) {
   density->setGridClass(openvdb::GRID_FOG_VOLUME);
   density->tree().setValue(openvdb::Coord(0, 0, 0), 1.0f);
   expect_error({density, velocity_grid(transform, false)}, "no level-set grid");
+  // Blender's Mantaflow data cache (a staggered `velocity`, a `particles`
+  // grid, no surface): the error says what to do instead.
+  auto particles = openvdb::FloatGrid::create(0.0f);
+  particles->setName("particles");
+  expect_error({particles, velocity_grid(transform, true, "velocity")}, "scripts/blender/export_fluid.py");
   // A fog volume where a level set was asked for.
   expect_error({density, velocity_grid(transform, false)}, "fog volume", {.surface = "density"});
   // A grid with no class and a zero background is no signed distance.
