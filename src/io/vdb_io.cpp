@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <mutex>
 
 #include <openvdb/io/DelayedLoadMetadata.h>
@@ -120,8 +119,8 @@ void initialize_reader() {
   std::call_once(once, [] { openvdb::io::DelayedLoadMetadata::unregisterType(); });
 }
 
-/// An open .vdb file whose grids are read one at a time (delayed loading:
-/// opening reads the grid descriptors only).
+/// An open .vdb file (opening reads the grid descriptors); grids are read
+/// one at a time, each whole, and only when asked for.
 class VdbFile {
  public:
   explicit VdbFile(const std::string& path) : path_(path), file_(path) {
@@ -221,7 +220,7 @@ openvdb::FloatGrid::Ptr read_surface(VdbFile& file, const std::string& name) {
                                       " values; a level set holds float signed distances");
   }
   if (meta->getGridClass() == openvdb::GRID_FOG_VOLUME) {
-    throw InputError(file.path(), "grid '" + name +
+    throw InputError(file.path(), "grid '" + printable(name) +
                                       "' is a fog volume (a density), not a level set; convert it to a level set "
                                       "first or name the level set with --vdb-surface");
   }
@@ -277,7 +276,7 @@ std::vector<Vec3> sample(const std::string& path, const std::string& name, const
     throw InputError(path, "velocity grid '" + printable(name) + "' has NaN or infinite values at the surface");
   }
   if (!positions.empty() && std::find(covered.begin(), covered.end(), 1) == covered.end()) {
-    throw InputError(path, "velocity grid '" + name +
+    throw InputError(path, "velocity grid '" + printable(name) +
                                "' has no active value at any surface vertex (a transform that does not match the "
                                "surface's?)");
   }

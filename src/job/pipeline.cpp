@@ -415,12 +415,16 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
   namespace fs = std::filesystem;
   const fs::path out(options.output.dir);
   std::size_t stale = 0;
-  for (const fs::path& dir :
-       {out, out / "state", out / "aov", out / "stats", fs::path(options.output.atlas()).parent_path(),
-        fs::path(options.output.mesh()).parent_path(), fs::path(options.output.displacement()).parent_path(),
-        fs::path(options.output.normal()).parent_path()}) {
-    stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
+  std::vector<fs::path> dirs = {out,
+                                out / "state",
+                                out / "aov",
+                                out / "stats",
+                                fs::path(options.output.atlas()).parent_path(),
+                                fs::path(options.output.mesh()).parent_path()};
+  for (const std::string& map : {options.output.displacement(), options.output.normal()}) {
+    if (!map.empty()) dirs.push_back(fs::path(map).parent_path());
   }
+  for (const fs::path& dir : dirs) stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
   return stale;
 }
 

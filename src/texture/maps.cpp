@@ -20,7 +20,7 @@ Image normal_map(const Image& height, const TexelMap& map, const Atlas& atlas, d
   const int n = height.width;
   Image normal = Image::blank(n, height.height, 3);
   std::vector<char> mask(map.face.size(), 0);
-  // Scene height per unit of the height image, per texel step.
+  // A height step of 1 across one texel is a slope of bump_height · density.
   const double scale = bump_height * atlas.texels_per_unit;
   auto chart_of = [&](int x, int y) {
     if (x < 0 || y < 0 || x >= n || y >= height.height) return -1;
@@ -61,8 +61,8 @@ Image normal_map(const Image& height, const TexelMap& map, const Atlas& atlas, d
       continue;
     }
     // A gutter texel holds a mean of unit normals: unit length again.
-    const Vec3 n = Vec3(2.0 * p[0] - 1.0, 2.0 * p[1] - 1.0, 2.0 * p[2] - 1.0).normalized();
-    for (int c = 0; c < 3; ++c) p[c] = static_cast<float>(0.5 + 0.5 * n[c]);
+    const Vec3 unit = Vec3(2.0 * p[0] - 1.0, 2.0 * p[1] - 1.0, 2.0 * p[2] - 1.0).normalized();
+    for (int c = 0; c < 3; ++c) p[c] = static_cast<float>(0.5 + 0.5 * unit[c]);
   }
   return normal;
 }
