@@ -198,6 +198,13 @@ void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
   });
 }
 
+/// --threads of a command that reads or writes frames (0: all cores).
+void add_threads_option(CLI::App* cmd, int& threads) {
+  cmd->add_option("--threads", threads, "Worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+}
+
 std::unique_ptr<tbb::global_control> limit_threads(int threads) {
   if (threads <= 0) return nullptr;
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -262,9 +269,7 @@ void add_synth(CLI::App& app, int& exit_code) {
       "fluidtex run's; any number of synth steps may texture different frames at once");
   cmd->add_option("-o,--output", args->request.dir, "The job's output folder (with job.toml and state/)")->required();
   cmd->add_option("--frames", args->request.frames, "Frames to texture, e.g. 7-12 (default: all of the job's)");
-  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_threads_option(cmd, args->threads);
   cmd->add_flag("--prune-state", args->request.prune_state,
                 "Remove the textured frames' states once all are written (the job's last state stays, for "
                 "run --resume)");
@@ -461,7 +466,7 @@ void add_eval(CLI::App& app, int& exit_code) {
   cmd->add_option("--view", args->view, "Orthographic view of the renders: top, front, side")
       ->check(CLI::IsMember(enum_choices<View>()))
       ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  add_threads_option(cmd, args->threads);
   cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
   cmd->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
   cmd->callback([args, &exit_code]() {
@@ -511,7 +516,7 @@ void add_compare(CLI::App& app, int& exit_code) {
                   "Largest value of that percentile per frame")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  add_threads_option(cmd, args->threads);
   cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
   cmd->add_flag("-q,--quiet", args->quiet, "Print only the verdict line");
   cmd->callback([args, &exit_code]() {

@@ -19,7 +19,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
-#include <sstream>
 #include <string_view>
 
 #include <OpenImageIO/imagebuf.h>
@@ -354,8 +353,7 @@ void write_texture(const std::string& path, const Image& image, const OIIO::Imag
     config.attribute("compression", compression->get_string());
   }
   write_atomically(path, [&](const fs::path& tmp) {
-    std::ostringstream messages;
-    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, buffer, tmp.string(), config, &messages)) {
+    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, buffer, tmp.string(), config)) {
       throw InternalError(path + ": cannot write texture: " + one_line(OIIO::geterror()));
     }
   });

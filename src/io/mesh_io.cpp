@@ -363,7 +363,6 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
     mesh = read_vdb_frame(path, options.vdb, options.require_velocities);
   } else {
     const std::string bytes = read_bytes(path);
-    if (bytes.empty()) throw InputError(path, "empty file (0 bytes)");
     mesh = ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
   }
   if (mesh.positions.empty()) throw InputError(path, "empty mesh (no vertices)");
