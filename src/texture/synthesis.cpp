@@ -668,6 +668,7 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
 void Synthesizer::projected_job(const Job& job, TileSums& tile, ProjectedHits& projected) const {
   const Patch& patch = patches_[job.patch];
   const Tri& tri = patch.triangles[job.tri];
+  const TrianglePrism prism(patch, tri, tolerance_);
   for (const Region& r : bins_.region_lists[job.regions]) {
     const Rect2i box = r.rect & tile.rect;
     for (int y = box.y0; y < box.y1; ++y) {
@@ -679,6 +680,7 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile, ProjectedHits& p
           const SurfacePoint s = surface_.at(r.face, map_.bary[i]);
           projected.point[j] = s.position, projected.normal[j] = surface_.normal_at(s), projected.point_ready[j] = 1;
         }
+        if (!prism.may_cover(projected.point[j])) continue;
         Vec3 l;
         double dist2;
         if (!project_to_patch_triangle(patch, tri, projected.point[j], projected.normal[j], tolerance_, l, dist2))

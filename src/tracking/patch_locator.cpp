@@ -42,6 +42,28 @@ bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, 
   return true;
 }
 
+TrianglePrism::TrianglePrism(const Patch& patch, const Tri& t, double tolerance) {
+  for (int k = 0; k < 3; ++k) corner_[k] = patch.positions[t[k]];
+  const Vec3 tn = (corner_[1] - corner_[0]).cross(corner_[2] - corner_[0]);
+  degenerate_ = !(tn.squaredNorm() > 0.0);  // project_to_patch_triangle covers nothing
+  if (degenerate_) return;
+  origin_ = corner_[0];
+  normal_ = tn.normalized();
+  double size = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 edge = corner_[(j + 1) % 3] - corner_[j];
+    inward_[j] = normal_.cross(edge).normalized();
+    size = std::max(size, edge.norm());
+  }
+  // The margin (a millionth of the triangle and the tolerance) is far above
+  // the rounding of either test and far below a texel.
+  const double margin = 1e-6 * (size + tolerance);
+  height_ = tolerance + margin;
+  reach_ = 0.1 * tolerance + margin;  // project_to_patch_triangle's in-plane slack
+  checked_ = std::isfinite(height_) && normal_.allFinite() && inward_[0].allFinite() && inward_[1].allFinite() &&
+           inward_[2].allFinite();
+}
+
 // Triangles are kept in levels by size: level k holds the triangles whose
 // centroid-to-corner reach is at most base·2^k, in a k-d tree over their
 // centroids queried with radius tolerance + base·2^k. A few stretched

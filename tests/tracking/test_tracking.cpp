@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <random>
 #include <set>
 
 #include <oneapi/tbb/global_control.h>
@@ -532,6 +534,49 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   // With no patch nothing is covered.
   const std::vector<Patch> none;
   EXPECT_FALSE(PatchCoverage(none, tol).covers(Vec3::Zero(), Vec3::UnitZ()));
+}
+
+// TrianglePrism::may_cover is a pre-test: it may pass points the full
+// projection rejects, never the reverse. Points are drawn around random
+// triangles, many of them within a few slacks of an edge, a corner or the
+// tolerance, where the two tests are closest.
+TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto random_vec = [&] { return Vec3(unit(rng), unit(rng), unit(rng)); };
+  Patch patch;
+  patch.triangles = {Tri{0, 1, 2}};
+  int covered = 0, prefiltered = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double scale = std::pow(10.0, 3.0 * unit(rng));
+    const Vec3 offset = 100.0 * scale * random_vec();
+    patch.positions = {offset + scale * random_vec(), offset + scale * random_vec(), offset + scale * random_vec()};
+    if (trial % 50 == 0) patch.positions[2] = patch.positions[1];  // degenerate
+    const double tolerance = scale * 0.2 * (1.0 + unit(rng));
+    const TrianglePrism prism(patch, patch.triangles[0], tolerance);
+    const Vec3 tn = (patch.positions[1] - patch.positions[0]).cross(patch.positions[2] - patch.positions[0]);
+    const Vec3 n = tn.squaredNorm() > 0.0 ? tn.normalized() : Vec3::UnitZ();
+    for (int k = 0; k < 50; ++k) {
+      // A point of the triangle's plane (barycentric coordinates up to a
+      // little outside), then lifted along the normal up to about the
+      // tolerance.
+      Vec3 l(unit(rng), unit(rng), 0.0);
+      l.z() = 1.0 - l.x() - l.y();
+      if (k % 2) l *= 1.0 + 1e-3 * unit(rng);
+      const Vec3 p = l.x() * patch.positions[0] + l.y() * patch.positions[1] + l.z() * patch.positions[2];
+      const Vec3 q = p + (k % 3 ? 1.0 : 1.0 + 1e-9) * tolerance * unit(rng) * n;
+      Vec3 bary;
+      double dist2;
+      const bool full = project_to_patch_triangle(patch, patch.triangles[0], q, n, tolerance, bary, dist2);
+      const bool may = prism.may_cover(q);
+      ASSERT_TRUE(may || !full) << "trial " << trial << " point " << k;
+      covered += full;
+      prefiltered += !may;
+    }
+  }
+  // Both outcomes occur often enough for the check to mean something.
+  EXPECT_GT(covered, 5000);
+  EXPECT_GT(prefiltered, 20000);
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 /// ("exact") texel synthesis.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -30,6 +32,33 @@ struct PatchHit {
 /// coordinates and `dist2` the squared distance to q.
 bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
                                Vec3& bary, double& dist2);
+
+/// A cheaper, conservative form of project_to_patch_triangle's tests for one
+/// triangle tested against many points: `may_cover(q)` is false only where
+/// project_to_patch_triangle is false (q farther than the tolerance from the
+/// triangle's plane, or its projection farther than the slack outside an
+/// edge), up to a margin well above rounding. Four dot products per point
+/// instead of a projection, and no closest-point search for the many points
+/// just outside.
+class TrianglePrism {
+ public:
+  TrianglePrism(const Patch& patch, const Tri& t, double tolerance);
+  bool may_cover(const Vec3& q) const {
+    if (!checked_) return !degenerate_;
+    if (std::abs((q - origin_).dot(normal_)) > height_) return false;
+    for (int j = 0; j < 3; ++j) {
+      if ((q - corner_[j]).dot(inward_[j]) < -reach_) return false;
+    }
+    return true;
+  }
+
+ private:
+  bool degenerate_ = false;  // zero area: covers nothing
+  bool checked_ = false;     // false: every point goes to the full test (non-finite corners)
+  Vec3 origin_, normal_;
+  std::array<Vec3, 3> corner_, inward_;  // edge j runs from corner j to j + 1
+  double height_ = 0.0, reach_ = 0.0;
+};
 
 class PatchLocator {
  public:
