@@ -179,9 +179,10 @@ std::vector<double> cut_stretched_margin(Patch& patch, const SurfaceIndex& surfa
 }
 
 /// What the triangles of a patch say about it: per-vertex quality sums, the
-/// per-vertex rule's flags, and at patch scale what the disk still shows (Q_T
-/// weighted by seen_weight(), flipped and split triangles counting 0) and
-/// what each rule takes away.
+/// per-vertex rule's flags, and at patch scale what the disk still shows (the
+/// seen weight of its intact triangles times their mean Q_T over the disk's
+/// current area; flipped and split triangles show nothing) and what each rule
+/// takes away.
 struct DistortionTally {
   std::vector<double> sum, weight;
   std::vector<int> count;
@@ -199,6 +200,12 @@ DistortionTally tally_triangles(Patch& patch, const SurfaceIndex& surface, const
   out.sum.assign(nv, 0.0), out.weight.assign(nv, 0.0), out.count.assign(nv, 0);
   patch.max_distortion = 1.0;
   const auto& component = surface.face_component();
+  // The disk's quality is the mean Q_T over what it shows now: weighted by
+  // the radial term of K_S times each triangle's current area, over the
+  // triangles neither flipped nor split (those count their seen weight as
+  // lost). A triangle the flow has crushed into a sliver shows almost
+  // nothing, and its vertices' Q_V already take its weight away in Eq. 4.
+  double intact = 0.0, now_weight = 0.0, now_quality = 0.0;
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     const Tri& tri = patch.triangles[t];
     const bool visible = touches_disk(patch, tri, options);
@@ -231,9 +238,14 @@ DistortionTally tally_triangles(Patch& patch, const SurfaceIndex& surface, const
       out.loss_split += w;
     else if (tri_flipped)
       out.loss_flipped += w;
-    else
-      out.shown += w * q, out.loss_stretch += w * (1.0 - q);
+    else {
+      intact += w;
+      const double now = area > 0.0 ? w * (0.5 * n.norm()) / area : 0.0;  // radial term × current area
+      now_weight += now, now_quality += now * q;
+    }
   }
+  const double mean_q = now_weight > 0.0 ? now_quality / now_weight : 0.0;
+  out.shown = intact * mean_q, out.loss_stretch = intact * (1.0 - mean_q);
   return out;
 }
 

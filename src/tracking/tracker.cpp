@@ -171,7 +171,8 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   const TrackingOptions& o = settings_.method;
   const PoissonParams params = poisson_params(o);
   // Fading-out disks are ignored; patches are in id order, so of two disks
-  // too close the younger one fades out.
+  // too close the younger one fades out, once it has been too close for
+  // more than kill-frames frames in a row.
   std::vector<std::size_t> live;
   std::vector<SurfaceSample> disks;
   for (std::size_t i = 0; i < patches_.size(); ++i) {
@@ -187,8 +188,9 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
                      settings_.coverage_aware ? std::function<bool(std::size_t, std::size_t)>(covers_centre) : nullptr);
   std::vector<SurfaceSample> remaining;
   for (std::size_t k = 0; k < live.size(); ++k) {
-    if (close[k]) {
-      Patch& p = patches_[live[k]];
+    Patch& p = patches_[live[k]];
+    p.close_frames = close[k] ? p.close_frames + 1 : 0;
+    if (p.close_frames > o.kill_frames) {
       p.state = DiskState::FadingOutClose;
       p.flagged_frame = frame;
       p.cause = RetireCause::TooClose;
@@ -204,7 +206,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   std::vector<char> uncovered;
   if (started_ && settings_.coverage_aware) {
     std::vector<char> live_mask(patches_.size(), 0);
-    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !close[k];
+    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !is_fading_out(patches_[live[k]].state);
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });

@@ -2,7 +2,8 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 4; version 3 had no relax-frames setting): the magic, the
+// Layout (version 5; version 4 had no kill-frames setting and no per-patch
+// count of frames too close, version 3 no relax-frames setting): the magic, the
 // version, a checksum of the raw streams (farmhash; damage anywhere is
 // refused, not loaded), then three streams, each
 // compressed with Blosc (byte shuffle + zstd) in chunks: the 8-byte fields
@@ -32,7 +33,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 4;
+constexpr std::uint32_t kVersion = 5;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};
@@ -284,6 +285,7 @@ Tracker::UnpackedState Tracker::unpacked_state() const {
     w.put(p.id), w.put(static_cast<std::uint8_t>(p.state)), w.put(p.kt);
     w.put(static_cast<std::int32_t>(p.created_frame)), w.put(static_cast<std::int32_t>(p.flagged_frame));
     w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
+    w.put(static_cast<std::int32_t>(p.close_frames));
     w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor);
     w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
@@ -314,10 +316,11 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   t.patches_.resize(count);
   for (Patch& p : t.patches_) {
     std::uint8_t state, cause;
-    std::int32_t created, flagged, density;
+    std::int32_t created, flagged, density, close_frames;
     r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
+    r.get(close_frames);
     const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
-    p.created_frame = created, p.flagged_frame = flagged, p.density = density;
+    p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
     r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor);
     r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
@@ -326,7 +329,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     p.positions.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
     bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
-              p.rest.size() == p.triangles.size() && known;
+              p.rest.size() == p.triangles.size() && close_frames >= 0 && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }

@@ -77,6 +77,7 @@ struct TrackingOptions {
   double selection_margin = 0.6;         ///< β: patch triangles are taken within (1 + β)·d of the centre
   int relax_frames =
       8;  ///< plastic patches: stretch beyond the yield relaxes over this many frames (0: off, the paper)
+  int kill_frames = 8;  ///< a disk too close to an older one fades out after this many frames in a row (0: at once)
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
@@ -159,6 +160,12 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                    "paper)",
                .bounds = at_least(0)},
     o.relax_frames);
+  f(OptionInfo{.name = "kill-frames",
+               .help = "a disk within the kill distance of an older patch that covers its centre fades out only once "
+                       "it has been so for this many frames in a row, so that a compression the liquid undoes "
+                       "(sloshing, passing waves) retires nothing (0: at once, the paper)",
+               .bounds = at_least(0)},
+    o.kill_frames);
   f(OptionInfo{.name = "criterion", .help = "Poisson rejection: ellipsoid (paper), sphere, plane"}, o.criterion);
   f(OptionInfo{.name = "fading",
                .help = "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its "

@@ -20,6 +20,7 @@ struct Patch {
   DiskState state = DiskState::FadingIn;
   double kt = 0.0;  ///< temporal weight K_t ∈ [0, 1]
   int created_frame = 0;
+  int close_frames = 0;  ///< frames in a row it has been within the kill distance of an older patch
   int flagged_frame = -1;                 ///< frame it started fading out (t_k), −1 if not
   RetireCause cause = RetireCause::None;  ///< why it is fading out (None while it is not)
   int density = 0;                        ///< ρ at the last update
