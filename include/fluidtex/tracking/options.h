@@ -172,8 +172,9 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "radius), density (Eq. 6, paper) or linear (Eq. 5)"},
     o.fading);
   f(OptionInfo{.name = "distortion-test",
-               .help = "patch: a patch is too distorted when its mean quality over the disk (weighted as K_S) is "
-                       "below Q_vmin; vertex: when any vertex inside the disk is (paper)"},
+               .help = "patch: a patch is too distorted when its mean quality over what its disk shows now "
+                       "(K_S's radial term times the current area; lost, flipped and split parts count 0) is below "
+                       "Q_vmin; vertex: when any vertex inside the disk is (paper)"},
     o.distortion_test);
 }
 
