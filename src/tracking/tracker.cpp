@@ -206,7 +206,10 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   std::vector<char> uncovered;
   if (started_ && settings_.coverage_aware) {
     std::vector<char> live_mask(patches_.size(), 0);
-    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !is_fading_out(patches_[live[k]].state);
+    // A disk within the kill distance (still waiting out kill-frames) does
+    // not count as cover: the older patch covers its centre, and what only
+    // it covers must not become a hole when it goes.
+    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !close[k];
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
