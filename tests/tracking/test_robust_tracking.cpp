@@ -291,7 +291,7 @@ CloseRun converging_plane(int kill_frames, int converge, int frames) {
     const double k = f <= converge ? -1.5 : 1.5;  // strain rate per second: 6 % per frame at 24 fps
     const auto velocity = [k](const Vec3& p) { return Vec3(k * p.x(), 0.0, 0.0); };
     const StepReport r =
-        t.step(std::make_shared<FrameMesh>(test::flat_grid(32, 1.6, 0.0, -0.8, -0.8, velocity)), f, 1.0 / 24);
+        t.step(std::make_shared<FrameMesh>(test::flat_grid(24, 1.2, 0.0, -0.6, -0.6, velocity)), f, 1.0 / 24);
     for (const RetiredPatch& x : r.retired) {
       if (x.cause != RetireCause::TooClose) continue;
       ++run.too_close;
@@ -311,8 +311,8 @@ TEST(KillFrames, ACompressionTheLiquidUndoesRetiresNothing) {
   EXPECT_EQ(wait.too_close, 0);
   // A sustained convergence still retires them, kill-frames frames later
   // than the paper's rule does.
-  const CloseRun paper_long = converging_plane(0, 20, 20);
-  const CloseRun wait_long = converging_plane(4, 20, 20);
+  const CloseRun paper_long = converging_plane(0, 16, 16);
+  const CloseRun wait_long = converging_plane(4, 16, 16);
   ASSERT_GT(paper_long.first, 0);
   ASSERT_GT(wait_long.first, 0);
   EXPECT_GE(wait_long.first, paper_long.first + 4);
