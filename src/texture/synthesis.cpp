@@ -354,7 +354,7 @@ class Synthesizer {
         // Texels just outside a patch's boundary edge still take it (the same
         // in-plane slack as the projection): the corners of a polygonal rim
         // between two patch border points would be holes otherwise.
-        slack_px_(0.1 * tolerance_ * atlas.texels_per_unit), pad_(static_cast<int>(std::ceil(slack_px_))),
+        slack_px_(projection_slack(tolerance_) * atlas.texels_per_unit), pad_(static_cast<int>(std::ceil(slack_px_))),
         core_(core_weights(patches, options)), contribute_{patches, core_, exemplar, options,
                                                            options.uv_scale / options.tile_size} {}
 
@@ -490,7 +490,7 @@ std::vector<Region> Synthesizer::projected_regions(const Patch& patch, const Tri
                       .cross(patch.positions[tri[2]] - patch.positions[tri[0]])
                       .normalized();
   const Vec3 tu = (patch.positions[tri[1]] - patch.positions[tri[0]]).normalized(), tv = tn.cross(tu);
-  const double slack = 0.1 * tolerance_;  // project_to_patch_triangle's in-plane slack
+  const double slack = projection_slack(tolerance_);
   std::vector<Vec3> prism;
   for (int k = 0; k < 3; ++k) {
     for (int corner = 0; corner < 8; ++corner) {

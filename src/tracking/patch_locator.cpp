@@ -36,7 +36,7 @@ bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, 
   // Just outside: the closest point of the triangle, within the slack.
   bary = barycentric(qp, a, b, c);  // clamped to the triangle
   const Vec3 closest = interpolate(bary, a, b, c);
-  const double slack = 0.1 * tolerance;
+  const double slack = projection_slack(tolerance);
   if ((closest - qp).squaredNorm() > slack * slack) return false;
   dist2 = (closest - q).squaredNorm();
   return true;
@@ -47,7 +47,6 @@ TrianglePrism::TrianglePrism(const Patch& patch, const Tri& t, double tolerance)
   const Vec3 tn = (corner_[1] - corner_[0]).cross(corner_[2] - corner_[0]);
   degenerate_ = !(tn.squaredNorm() > 0.0);  // project_to_patch_triangle covers nothing
   if (degenerate_) return;
-  origin_ = corner_[0];
   normal_ = tn.normalized();
   double size = 0.0;
   for (int j = 0; j < 3; ++j) {
@@ -59,7 +58,7 @@ TrianglePrism::TrianglePrism(const Patch& patch, const Tri& t, double tolerance)
   // the rounding of either test and far below a texel.
   const double margin = 1e-6 * (size + tolerance);
   height_ = tolerance + margin;
-  reach_ = 0.1 * tolerance + margin;  // project_to_patch_triangle's in-plane slack
+  reach_ = projection_slack(tolerance) + margin;
   checked_ = std::isfinite(height_) && normal_.allFinite() && inward_[0].allFinite() && inward_[1].allFinite() &&
            inward_[2].allFinite();
 }

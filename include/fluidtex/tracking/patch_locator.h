@@ -23,11 +23,15 @@ struct PatchHit {
   Vec3 bary = Vec3::Zero();  ///< and the point's barycentric coordinates in it
 };
 
+/// How far outside a patch triangle, in its plane, a point still counts as
+/// covered by it: a tenth of the projection tolerance.
+inline double projection_slack(double tolerance) { return 0.1 * tolerance; }
+
 /// Projects the surface point `q` (unit normal `n`) onto triangle `t` of
 /// `patch`: it covers q when it faces the same side (a triangle facing away is
 /// the other side of a thin sheet, or a fold), lies within `tolerance` of q
 /// along its normal, and contains q's projection up to an in-plane slack of
-/// tolerance/10 (so the corners of a polygonal rim between two patch border
+/// projection_slack() (so the corners of a polygonal rim between two patch border
 /// points still count). On success, `bary` holds the (clamped) barycentric
 /// coordinates and `dist2` the squared distance to q.
 bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
@@ -45,7 +49,7 @@ class TrianglePrism {
   TrianglePrism(const Patch& patch, const Tri& t, double tolerance);
   bool may_cover(const Vec3& q) const {
     if (!checked_) return !degenerate_;
-    if (std::abs((q - origin_).dot(normal_)) > height_) return false;
+    if (std::abs((q - corner_[0]).dot(normal_)) > height_) return false;
     for (int j = 0; j < 3; ++j) {
       if ((q - corner_[j]).dot(inward_[j]) < -reach_) return false;
     }
@@ -55,7 +59,7 @@ class TrianglePrism {
  private:
   bool degenerate_ = false;  // zero area: covers nothing
   bool checked_ = false;     // false: every point goes to the full test (non-finite corners)
-  Vec3 origin_, normal_;
+  Vec3 normal_;
   std::array<Vec3, 3> corner_, inward_;  // edge j runs from corner j to j + 1
   double height_ = 0.0, reach_ = 0.0;
 };
