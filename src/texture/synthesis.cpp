@@ -84,7 +84,8 @@ struct Contributor {
   void sample(int patch, const Vec2& uv, double* centred) const {
     const Patch& p = patches[patch];
     float r[3];
-    exemplar.sample(p.anchor.x() + lookup_scale * uv.x(), p.anchor.y() + lookup_scale * uv.y(), r);
+    const Vec2 at = p.anchor + lookup_scale * (uv + p.texture_offset);
+    exemplar.sample(at.x(), at.y(), r);
     for (int c = 0; c < exemplar.channels(); ++c) centred[c] = blend_term(options.blend, r[c], exemplar.mean()[c]);
   }
 

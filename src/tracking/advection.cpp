@@ -291,7 +291,7 @@ double radial_weight(double r, const TrackingOptions& options) {
 float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale) {
   const double radial = std::max(0.0, 1.0 - patch.uvs[v].norm() / radius);  // d_uv = d, p_uv is the origin
   const double ks =
-      radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, double(patch.quality[v]));  // Eq. 4
+      radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, shown_quality(patch, v));  // Eq. 4
   return static_cast<float>(ks * patch.kt);                                                         // Eq. 2
 }
 
@@ -299,7 +299,7 @@ void update_weights(Patch& patch, const TrackingOptions& options) {
   const std::size_t nv = patch.positions.size();
   patch.weight.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
-    const double quality = std::max<double>(patch.quality[v], kCoverageTail);
+    const double quality = std::max(shown_quality(patch, v), kCoverageTail);
     const double r = patch.uvs[v].norm();  // p_uv is the origin
     // d_V = 0 on the border takes the disk's term (Eq. 4), not the tail.
     const double ks =

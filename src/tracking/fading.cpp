@@ -13,9 +13,14 @@ const char* age_bucket_name(int bucket) {
   return names[bucket];
 }
 
+double fade_rate(int rho, int fade_frames, Fading fading, double motion) {
+  const double rate =
+      (fading == Fading::Linear ? 1.0 : static_cast<double>(rho) + 1.0) / static_cast<double>(fade_frames);
+  return fading == Fading::Flow && motion > rate ? motion : rate;
+}
+
 FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion) {
-  double rate = (fading == Fading::Linear ? 1.0 : static_cast<double>(rho) + 1.0) / static_cast<double>(fade_frames);
-  if (fading == Fading::Flow && motion > rate) rate = motion;
+  const double rate = fade_rate(rho, fade_frames, fading, motion);
   switch (state) {
     case DiskState::FadingIn:
       kt += rate;  // Eq. 6, first line

@@ -82,6 +82,7 @@ void remove_triangles(Patch& patch, const std::vector<std::uint8_t>& keep, const
     patch.projections[next] = patch.projections[v];
     patch.uvs[next] = patch.uvs[v];
     if (!patch.quality.empty()) patch.quality[next] = patch.quality[v];
+    if (!patch.recovery.empty()) patch.recovery[next] = patch.recovery[v];
     if (!patch.weight.empty()) patch.weight[next] = patch.weight[v];
     ++next;
   }
@@ -89,6 +90,7 @@ void remove_triangles(Patch& patch, const std::vector<std::uint8_t>& keep, const
   patch.projections.resize(next);
   patch.uvs.resize(next);
   if (!patch.quality.empty()) patch.quality.resize(next);
+  if (!patch.recovery.empty()) patch.recovery.resize(next);
   if (!patch.weight.empty()) patch.weight.resize(next);
   for (Tri& t : triangles) {
     for (int& v : t) v = remap[v];

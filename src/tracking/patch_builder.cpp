@@ -5,8 +5,11 @@
 #include <limits>
 #include <unordered_map>
 
+#include <Eigen/Geometry>  // Rotation2D
+
 #include "fluidtex/geometry/disk_region.h"
 #include "fluidtex/geometry/parameterization.h"
+#include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/util/random.h"
 
 namespace fluidtex {
@@ -126,6 +129,102 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
   patch.anchor = Vec2(uniform(seed, Stream::PatchAnchor, id, 0), uniform(seed, Stream::PatchAnchor, id, 1));
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) patch.disk_weight += seen_weight(patch, t, options.d());
   return patch;
+}
+
+namespace {
+
+/// What `old` showed at `fresh`'s vertices: per vertex, Q_V (as its weight
+/// shows it, 0 on its border) interpolated through the triangle of `old` the
+/// vertex projects onto, 0 where none does; and, where both show their
+/// texture, the pairs (uv of `fresh`, uv of `old`), each weighted by K_S's
+/// radial term of both times that quality.
+struct Matching {
+  std::vector<float> shown;  ///< per vertex of `fresh`
+  std::vector<Vec2> from, to;
+  std::vector<double> weight;
+};
+
+Matching match_patches(const Patch& old, const Patch& fresh, const SurfaceIndex& surface,
+                       const TrackingOptions& options) {
+  const double d = options.d();
+  std::vector<double> quality(old.num_vertices()), radial(old.num_vertices());
+  for (std::size_t v = 0; v < quality.size(); ++v) {
+    quality[v] = old.border[v] ? 0.0 : std::max(0.0, shown_quality(old, v));
+    radial[v] = std::max(0.0, 1.0 - old.uvs[v].norm() / d);
+  }
+  std::vector<TrianglePrism> prisms;
+  prisms.reserve(old.triangles.size());
+  for (const Tri& t : old.triangles) prisms.emplace_back(old, t, options.mpt());
+  Matching m;
+  m.shown.assign(fresh.num_vertices(), 0.0f);
+  for (std::size_t v = 0; v < fresh.num_vertices(); ++v) {
+    const Vec3& q = fresh.positions[v];
+    const Vec3 n = surface.normal_at(fresh.projections[v]);
+    double best = std::numeric_limits<double>::infinity();
+    Vec2 uv = Vec2::Zero();
+    double seen = 0.0;
+    for (std::size_t k = 0; k < old.triangles.size(); ++k) {
+      const Tri& t = old.triangles[k];
+      Vec3 l;
+      double dist2 = 0.0;
+      if (!prisms[k].may_cover(q)) continue;
+      if (!project_to_patch_triangle(old, t, q, n, options.mpt(), l, dist2) || !(dist2 < best)) continue;
+      best = dist2;
+      uv = interpolate(old.uvs, t, l);
+      m.shown[v] = static_cast<float>(l[0] * quality[t[0]] + l[1] * quality[t[1]] + l[2] * quality[t[2]]);
+      seen = l[0] * radial[t[0]] + l[1] * radial[t[1]] + l[2] * radial[t[2]];
+    }
+    const double w = m.shown[v] * seen * std::max(0.0, 1.0 - fresh.uvs[v].norm() / d);
+    if (!(w > 0.0)) continue;
+    m.from.push_back(fresh.uvs[v]);
+    m.to.push_back(uv);
+    m.weight.push_back(w);
+  }
+  return m;
+}
+
+}  // namespace
+
+std::optional<Patch> recut_patch(const Patch& old, const SurfaceIndex& surface, const TrackingOptions& options,
+                                 std::uint64_t seed, int frame, double edge_length) {
+  std::optional<Patch> fresh = build_patch(surface, old.center, options, old.id, seed, frame, edge_length);
+  if (!fresh) return std::nullopt;
+  Matching pairs = match_patches(old, *fresh, surface, options);
+  if (pairs.weight.size() < 3) return std::nullopt;
+  // The rotation R and shift t that best carry the new uv onto the old
+  // (weighted least squares, no scaling: the new patch is undistorted, and
+  // its uv stay metric with the centre at the origin).
+  double sum = 0.0;
+  Vec2 from_mean = Vec2::Zero(), to_mean = Vec2::Zero();
+  for (std::size_t k = 0; k < pairs.weight.size(); ++k) {
+    sum += pairs.weight[k];
+    from_mean += pairs.weight[k] * pairs.from[k];
+    to_mean += pairs.weight[k] * pairs.to[k];
+  }
+  from_mean /= sum, to_mean /= sum;
+  double dot = 0.0, cross = 0.0;
+  for (std::size_t k = 0; k < pairs.weight.size(); ++k) {
+    const Vec2 a = pairs.from[k] - from_mean, b = pairs.to[k] - to_mean;
+    dot += pairs.weight[k] * a.dot(b);
+    cross += pairs.weight[k] * (a.x() * b.y() - a.y() * b.x());
+  }
+  if (!(std::abs(dot) + std::abs(cross) > 0.0)) return std::nullopt;  // every pair at one point
+  const Eigen::Rotation2Dd turn(std::atan2(cross, dot));
+  for (Vec2& uv : fresh->uvs) uv = turn * uv;  // the rest shapes do not depend on it
+  // Old texture at a point: offset + uv_old; new: offset' + R·uv_new, and
+  // uv_old ≈ R·uv_new + t.
+  fresh->texture_offset = old.texture_offset + (to_mean - turn * from_mean);
+  // Each vertex shows at first what the old patch showed there; where that
+  // was crushed or torn (little shown), the new texture fades in.
+  fresh->recovery = std::move(pairs.shown);
+  fresh->anchor = old.anchor;
+  fresh->state = old.state;
+  fresh->kt = old.kt;
+  fresh->created_frame = old.created_frame;
+  fresh->close_frames = old.close_frames;
+  fresh->density = old.density;
+  fresh->motion = old.motion;
+  return fresh;
 }
 
 }  // namespace fluidtex

@@ -28,6 +28,17 @@ void parallel_each(std::size_t n, F&& f) {
 
 PoissonParams poisson_params(const TrackingOptions& o) { return {o.d(), o.cs(), o.plane_angle, o.criterion}; }
 
+/// One frame of a recut patch's recovery, at its fading rate.
+void recover(Patch& p, double rate) {
+  if (p.recovery.empty()) return;
+  bool done = true;
+  for (float& r : p.recovery) {
+    r = static_cast<float>(std::min(1.0, r + rate));
+    done = done && r >= 1.0f;
+  }
+  if (done) p.recovery.clear();
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, double>> retired_counts(const std::vector<RetiredPatch>& retired) {
@@ -127,7 +138,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   const ScopedStage stage(report.seconds, "distortion");
   const TrackingOptions& o = settings_.method;
   std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
-  std::vector<char> relaxed(patches_.size(), 0);
+  std::vector<char> relaxed(patches_.size(), 0), recuts(patches_.size(), 0);
   parallel_each(patches_.size(), [&](std::size_t i) {
     if (is_lost(advected[i])) return;
     if (o.relax_frames > 0 && !is_fading_out(patches_[i].state))
@@ -139,8 +150,19 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
         o.distortion_test == DistortionTest::Vertex) {
       distorted[i] = RetireCause::VerticesLost;
     }
+    if (distorted[i] != RetireCause::None && o.distorted == Distorted::Recut && !is_fading_out(patches_[i].state)) {
+      std::optional<Patch> recut =
+          recut_patch(patches_[i], surface, o, settings_.seed, frame, settings_.patch_edge * o.d());
+      if (recut) {
+        update_distortion(*recut, surface, o);
+        patches_[i] = std::move(*recut);
+        distorted[i] = RetireCause::None;
+        recuts[i] = 1;
+      }
+    }
   });
   report.relaxed = static_cast<int>(std::count(relaxed.begin(), relaxed.end(), 1));
+  report.recut = static_cast<int>(std::count(recuts.begin(), recuts.end(), 1));
   std::vector<Patch> kept;
   kept.reserve(patches_.size());
   for (std::size_t i = 0; i < patches_.size(); ++i) {
@@ -322,6 +344,7 @@ void Tracker::fade(StepReport& report) {
     }
     p.state = r.state;
     p.kt = r.kt;
+    recover(p, fade_rate(rho[i], o.fade_frames, o.fading, p.motion));
     survivors.push_back(std::move(p));
   }
   patches_ = std::move(survivors);

@@ -2,8 +2,9 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 5; version 4 had no kill-frames setting and no per-patch
-// count of frames too close, version 3 no relax-frames setting): the magic, the
+// Layout (version 6; version 5 had no distorted setting and no per-patch
+// texture offset or recovery, version 4 no kill-frames setting and no per-patch count of
+// frames too close, version 3 no relax-frames setting): the magic, the
 // version, a checksum of the raw streams (farmhash; damage anywhere is
 // refused, not loaded), then three streams, each
 // compressed with Blosc (byte shuffle + zstd) in chunks: the 8-byte fields
@@ -33,7 +34,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 5;
+constexpr std::uint32_t kVersion = 6;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};
@@ -286,9 +287,10 @@ Tracker::UnpackedState Tracker::unpacked_state() const {
     w.put(static_cast<std::int32_t>(p.created_frame)), w.put(static_cast<std::int32_t>(p.flagged_frame));
     w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
     w.put(static_cast<std::int32_t>(p.close_frames));
-    w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor);
+    w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor), w.put(p.texture_offset);
     w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
+    w.put_vector(p.recovery);
     w.put(p.max_distortion), w.put(p.disk_weight), w.put(p.motion);
   }
   w.put(static_cast<std::uint64_t>(retired_.size()));
@@ -321,14 +323,16 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     r.get(close_frames);
     const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
-    r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor);
+    r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor), r.get(p.texture_offset);
     r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
+    r.get_vector(p.recovery);
     r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
     const std::size_t nv = p.projections.size();
     p.positions.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
     bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
+              (p.recovery.empty() || p.recovery.size() == nv) &&
               p.rest.size() == p.triangles.size() && close_frames >= 0 && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;

@@ -367,7 +367,10 @@ TEST(Tracker, ConstantVelocityTranslatesPatchesExactly) {
 }
 
 TEST(Tracker, RotationGoesThroughTheStates) {
-  Tracker t(small_settings());
+  // The paper's states: a distorted patch fades out rather than being recut.
+  TrackerSettings s = small_settings();
+  s.method.distorted = Distorted::Fade;
+  Tracker t(s);
   bool saw_fading_in = false, saw_close = false, saw_distorted = false;
   int removed = 0;
   for (int f = 1; f <= 40; ++f) {
@@ -390,13 +393,15 @@ TEST(Tracker, RotationGoesThroughTheStates) {
 TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
   // The rotation keeps its patches; the drop, through its contact (frame ~6
   // of 12), replaces some: patches fade in, fade out and are removed, and
-  // K_t follows Eq. 6.
+  // K_t follows Eq. 6 (the paper's states: distorted patches fade out).
   SceneOptions so;
   so.resolution = 20;
   so.frames = 12;
   for (const char* scene : {"rotation", "drop"}) {
     SCOPED_TRACE(scene);
-    Tracker t(TrackerSettings{});
+    TrackerSettings s;
+    s.method.distorted = Distorted::Fade;
+    Tracker t(s);
     int created_later = 0, removed = 0, fading_out = 0;
     for (int f = 1; f <= so.frames; ++f) {
       const StepReport r = t.step(std::make_shared<FrameMesh>(make_scene_frame(scene, f, so)), f, 1.0 / so.fps);

@@ -67,6 +67,11 @@ struct FadeResult {
   bool remove;  ///< K_t reached 0 (or below) while fading out
 };
 
+/// How much K_t changes in one frame for a disk of density `rho` whose
+/// centre moved `motion` (units of d): Eq. 6's (ρ + 1)/τ, Eq. 5's 1/τ, or
+/// for Fading::Flow the larger of Eq. 6's and `motion`.
+double fade_rate(int rho, int fade_frames, Fading fading, double motion);
+
 /// One frame of fading for a disk in `state` with weight `kt` and density
 /// `rho` (other disks in the same plane within radius d, any state);
 /// `motion` is how far its centre moved this frame, in units of d

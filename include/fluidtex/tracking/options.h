@@ -48,6 +48,17 @@ enum class DistortionTest {
   Vertex,  ///< any vertex inside the disk with Q_V < Q_vmin (Yu et al. 2011)
 };
 
+/// What becomes of a patch found too distorted (Sec. 5.3).
+enum class Distorted {
+  /// The default (departure from the paper): the patch is cut again around
+  /// its own centre from the current surface and flattened anew, its uv
+  /// turned and its texture shifted to match what it showed
+  /// (recut_patch), so it keeps its place, its fading state and its
+  /// texture instead of fading out and being replaced by a new patch.
+  Recut,
+  Fade,  ///< it fades out and the Poisson update replaces it (the paper)
+};
+
 inline constexpr EnumName<Criterion> kCriterionNames[] = {
     {Criterion::Ellipsoid, "ellipsoid"}, {Criterion::Sphere, "sphere"}, {Criterion::Plane, "plane"}};
 constexpr const auto& enum_names(Criterion) { return kCriterionNames; }
@@ -60,6 +71,9 @@ inline constexpr EnumName<DistortionTest> kDistortionTestNames[] = {{DistortionT
                                                                     {DistortionTest::Vertex, "vertex"}};
 constexpr const auto& enum_names(DistortionTest) { return kDistortionTestNames; }
 inline const char* to_string(DistortionTest t) { return enum_name(t); }
+inline constexpr EnumName<Distorted> kDistortedNames[] = {{Distorted::Recut, "recut"}, {Distorted::Fade, "fade"}};
+constexpr const auto& enum_names(Distorted) { return kDistortedNames; }
+inline const char* to_string(Distorted d) { return enum_name(d); }
 
 /// Tracking parameters (Tables 3 and 4). Lengths in scene units; the three
 /// lengths left unset are derived from the first frame (resolved()).
@@ -81,6 +95,7 @@ struct TrackingOptions {
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
+  Distorted distorted = Distorted::Recut;
 
   /// Every field as f(OptionInfo, field), in the order of --help, the config
   /// file and the state file's settings block (util/options.h).
@@ -176,6 +191,11 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "(K_S's radial term times the current area; lost, flipped and split parts count 0) is below "
                        "Q_vmin; vertex: when any vertex inside the disk is (paper)"},
     o.distortion_test);
+  f(OptionInfo{.name = "distorted",
+               .help = "what becomes of a patch found too distorted: recut (cut again around its centre from the "
+                       "current surface and flattened anew, its texture kept in place) or fade (it fades out and a "
+                       "new patch replaces it, the paper)"},
+    o.distorted);
 }
 
 }  // namespace fluidtex

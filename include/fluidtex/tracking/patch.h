@@ -28,6 +28,10 @@ struct Patch {
 
   SurfaceSample center;        ///< the Poisson disk: centre on the current surface, normal
   Vec2 anchor = Vec2::Zero();  ///< exemplar position of the centre, in tiles ([0,1)²)
+  /// Added to every uv at exemplar lookup (metric, 0 when built): a recut
+  /// patch (recut_patch) keeps showing the texture its predecessor showed,
+  /// while its uv keep the centre at the origin.
+  Vec2 texture_offset = Vec2::Zero();
 
   // The patch mesh. uv is metric (scene units, centre at the origin, uv area
   // equals the 3D area at creation); synthesis maps it to the exemplar.
@@ -38,6 +42,10 @@ struct Patch {
   std::vector<RestTriangle> rest;    ///< per triangle: shape at creation (distortion metric)
   std::vector<std::uint8_t> border;  ///< d_V = 0 when 1 (vertex on the patch boundary)
   std::vector<float> quality;        ///< Q_V per vertex
+  /// Per vertex after a recut (recut_patch): the share of its weight it
+  /// shows, starting at what the patch showed there before the recut and
+  /// rising to 1 as a fading-in K_t does; empty when every vertex shows it all.
+  std::vector<float> recovery;
   std::vector<float> weight;         ///< w_V = K_S·K_t per vertex (Eq. 2)
 
   double max_distortion = 1.0;  ///< max D_T over the triangles at the last update
@@ -48,6 +56,11 @@ struct Patch {
   std::size_t num_vertices() const { return positions.size(); }
   bool empty() const { return triangles.empty(); }
 };
+
+/// Q_V of vertex `v` as its weight shows it: times its recovery after a recut.
+inline double shown_quality(const Patch& patch, std::size_t v) {
+  return patch.recovery.empty() ? patch.quality[v] : patch.quality[v] * patch.recovery[v];
+}
 
 /// How much triangle `t` of `patch` shows: its rest area times K_S's radial
 /// term (1 − |uv|/d, at its uv centroid), 0 outside the disk.

@@ -36,4 +36,21 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
                                  const TrackingOptions& options, std::uint32_t id, std::uint64_t seed, int frame,
                                  double edge_length, std::string* failure = nullptr);
 
+/// A patch found too distorted, cut again around its own centre from the
+/// current `surface` (build_patch: selection, remeshing, LSCM), keeping its
+/// id, fading state, age and texture. Departure from the paper, which fades
+/// such a patch out and lets a new disk, with a new texture, replace it: the
+/// new uv are turned, and the texture shifted (Patch::texture_offset), to
+/// match what the old patch showed, a least-squares fit over the new
+/// vertices weighted by both patches' K_S radial terms times the old
+/// patch's Q_V there. Each vertex then shows at first only as much as the
+/// old patch showed there (Patch::recovery: its Q_V, 0 where it did not
+/// cover), rising as a fading-in K_t does. So where the old patch was little
+/// distorted the texture stays in place, and where it was crushed or torn
+/// (shown faintly, Q_V) the new texture fades in rather than appearing at
+/// once. nullopt when no patch can be built or it overlaps too little of
+/// what the old one showed to be matched.
+std::optional<Patch> recut_patch(const Patch& old, const SurfaceIndex& surface, const TrackingOptions& options,
+                                 std::uint64_t seed, int frame, double edge_length);
+
 }  // namespace fluidtex

@@ -4,7 +4,9 @@
 /// patches. Per frame, in order (docs/method.md):
 ///  1. advect every disk centre and patch vertex, project onto the new surface
 ///     (vertices beyond mpt are removed, a centre beyond mpt kills its patch);
-///  2. distortion → "fading out (too distorted)";
+///  2. distortion → a too distorted patch is cut again in place
+///     (recut_patch; --distorted recut, the default), or "fading out (too
+///     distorted)" (--distorted fade, the paper, or when no patch can be cut);
 ///  3. Poisson update ignoring fading-out disks: kill distance → "fading out
 ///     (too close)", new disks in the gaps, their patches created;
 ///  4. density ρ and K_t (Eq. 6 or 5); fading-out patches at K_t ≤ 0 removed;
@@ -70,6 +72,7 @@ struct StepReport {
   int created = 0;                    ///< new patches this frame (refilled ones included)
   int refilled = 0;                   ///< of those, made by the coverage safety net (refill_bare_faces)
   int relaxed = 0;                    ///< live patches whose uv relaxed (stretched beyond the yield; relax-frames)
+  int recut = 0;                      ///< patches found too distorted and cut again in place (--distorted recut)
   int removed = 0;                    ///< patches removed (faded out or lost)
   int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
   int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
