@@ -458,8 +458,8 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
 
 namespace {
 
-/// Patch life over the frames: births, deaths, lifetimes, churn and the
-/// removal histogram (rule × age), from consecutive state files.
+/// Patch life over the frames: births, deaths, recuts, lifetimes, churn and
+/// the removal histogram (rule × age), from consecutive state files.
 struct PatchHistory {
   std::map<std::uint32_t, int> born;                                         // live patch id -> first frame seen
   std::vector<double> lifetimes;                                             // frames lived by patches that died
@@ -476,10 +476,11 @@ struct PatchHistory {
     row.emplace_back("fading_out_distorted", counts.fading_out_distorted);
     row.emplace_back("fading_out_close", counts.fading_out_close);
     std::set<std::uint32_t> ids;
-    int births = 0;
+    int births = 0, recuts = 0;
     for (const Patch& p : patches) {
       ids.insert(p.id);
       if (!previous_ids.count(p.id)) ++births, born.emplace(p.id, frame);
+      recuts += p.recut_frame == frame;
     }
     int deaths = 0;
     for (std::uint32_t id : previous_ids) {
@@ -490,6 +491,7 @@ struct PatchHistory {
     }
     row.emplace_back("births", have_previous ? births : std::nan(""));
     row.emplace_back("deaths", have_previous ? deaths : std::nan(""));
+    row.emplace_back("recuts", have_previous ? recuts : std::nan(""));  // cut again in place (--distorted recut)
     // Churn: births over live patches, and the share of patches active.
     row.emplace_back("birth_rate",
                      have_previous && !patches.empty() ? births / static_cast<double>(patches.size()) : std::nan(""));
@@ -661,7 +663,7 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
       {"Patches by state",
        {"active", "fading_in", "fading_out_distorted", "fading_out_close"},
        {"active", "fading in", "out: distorted", "out: too close"}},
-      {"Patch births and deaths", {"births", "deaths"}, {"births", "deaths"}},
+      {"Patch births, deaths and recuts", {"births", "deaths", "recuts"}, {"births", "deaths", "cut again in place"}},
       {"Churn: births over live patches, active share",
        {"birth_rate", "active_share"},
        {"births / live", "active / live"}},

@@ -221,6 +221,7 @@ std::optional<Patch> recut_patch(const Patch& old, const SurfaceIndex& surface, 
   fresh->state = old.state;
   fresh->kt = old.kt;
   fresh->created_frame = old.created_frame;
+  fresh->recut_frame = frame;
   fresh->close_frames = old.close_frames;
   fresh->density = old.density;
   fresh->motion = old.motion;

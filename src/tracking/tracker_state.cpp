@@ -3,7 +3,7 @@
 // continues exactly as the original would have.
 //
 // Layout (version 6; version 5 had no distorted setting and no per-patch
-// texture offset or recovery, version 4 no kill-frames setting and no per-patch count of
+// texture offset, recovery or last recut frame, version 4 no kill-frames setting and no per-patch count of
 // frames too close, version 3 no relax-frames setting): the magic, the
 // version, a checksum of the raw streams (farmhash; damage anywhere is
 // refused, not loaded), then three streams, each
@@ -286,7 +286,7 @@ Tracker::UnpackedState Tracker::unpacked_state() const {
     w.put(p.id), w.put(static_cast<std::uint8_t>(p.state)), w.put(p.kt);
     w.put(static_cast<std::int32_t>(p.created_frame)), w.put(static_cast<std::int32_t>(p.flagged_frame));
     w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
-    w.put(static_cast<std::int32_t>(p.close_frames));
+    w.put(static_cast<std::int32_t>(p.close_frames)), w.put(static_cast<std::int32_t>(p.recut_frame));
     w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor), w.put(p.texture_offset);
     w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
@@ -318,11 +318,12 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   t.patches_.resize(count);
   for (Patch& p : t.patches_) {
     std::uint8_t state, cause;
-    std::int32_t created, flagged, density, close_frames;
+    std::int32_t created, flagged, density, close_frames, recut;
     r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
-    r.get(close_frames);
+    r.get(close_frames), r.get(recut);
     const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
+    p.recut_frame = recut;
     r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor), r.get(p.texture_offset);
     r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);

@@ -174,6 +174,9 @@ TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   EXPECT_GT(value("ghosting_mean"), 1.0);
   EXPECT_LT(value("flow_endpoint_px"), 0.5 * value("flow_speed_px"));
   EXPECT_NEAR(value("contrast_g"), 1.0, 0.2);
+  // The rigid rotation recuts nothing; the count is there, per frame.
+  const std::string metrics = test::read_file(out + "/eval/metrics.jsonl");
+  EXPECT_NE(metrics.find("\"recuts\":0"), std::string::npos);
   const std::string html = test::read_file(out + "/eval/report.html");
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);

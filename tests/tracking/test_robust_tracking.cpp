@@ -423,6 +423,7 @@ TEST(Recut, ARigidlyMovedPatchKeepsItsTextureAndItsPlace) {
   EXPECT_EQ(cut->state, DiskState::FadingIn);
   EXPECT_EQ(cut->kt, 0.4);
   EXPECT_EQ(cut->created_frame, -5);
+  EXPECT_EQ(cut->recut_frame, 9);
   EXPECT_EQ(cut->close_frames, 2);
   EXPECT_EQ(cut->anchor, old.anchor);
   EXPECT_EQ(cut->center.point.position, old.center.point.position);

@@ -22,6 +22,7 @@ struct Patch {
   int created_frame = 0;
   int close_frames = 0;  ///< frames in a row it has been within the kill distance of an older patch
   int flagged_frame = -1;                 ///< frame it started fading out (t_k), −1 if not
+  int recut_frame = -1;                   ///< last frame it was cut again in place (recut_patch), −1 if never
   RetireCause cause = RetireCause::None;  ///< why it is fading out (None while it is not)
   int density = 0;                        ///< ρ at the last update
   double motion = 0.0;                    ///< how far the centre moved in the last step, in units of d
