@@ -138,7 +138,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   const ScopedStage stage(report.seconds, "distortion");
   const TrackingOptions& o = settings_.method;
   std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
-  std::vector<char> relaxed(patches_.size(), 0), recuts(patches_.size(), 0);
+  std::vector<char> relaxed(patches_.size(), 0);
   parallel_each(patches_.size(), [&](std::size_t i) {
     if (is_lost(advected[i])) return;
     if (o.relax_frames > 0 && !is_fading_out(patches_[i].state))
@@ -157,12 +157,12 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
         update_distortion(*recut, surface, o);
         patches_[i] = std::move(*recut);
         distorted[i] = RetireCause::None;
-        recuts[i] = 1;
       }
     }
   });
   report.relaxed = static_cast<int>(std::count(relaxed.begin(), relaxed.end(), 1));
-  report.recut = static_cast<int>(std::count(recuts.begin(), recuts.end(), 1));
+  report.recut = static_cast<int>(
+      std::count_if(patches_.begin(), patches_.end(), [&](const Patch& p) { return p.recut_frame == frame; }));
   std::vector<Patch> kept;
   kept.reserve(patches_.size());
   for (std::size_t i = 0; i < patches_.size(); ++i) {

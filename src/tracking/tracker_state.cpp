@@ -3,8 +3,9 @@
 // continues exactly as the original would have.
 //
 // Layout (version 6; version 5 had no distorted setting and no per-patch
-// texture offset, recovery or last recut frame, version 4 no kill-frames setting and no per-patch count of
-// frames too close, version 3 no relax-frames setting): the magic, the
+// texture offset, recovery or last recut frame, version 4 no kill-frames
+// setting and no per-patch count of frames too close, version 3 no
+// relax-frames setting): the magic, the
 // version, a checksum of the raw streams (farmhash; damage anywhere is
 // refused, not loaded), then three streams, each
 // compressed with Blosc (byte shuffle + zstd) in chunks: the 8-byte fields
