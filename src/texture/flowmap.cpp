@@ -153,7 +153,7 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
       ++t.chart;
       mask[i] = 1;
       const Tri& tri = mesh.triangles[f];
-      const Vec3& l = map.bary[i];
+      const Vec3 l = map.bary(i);
       double sum[3] = {0, 0, 0};
       for (int k = 0; k < 2; ++k) {
         const double w = frame.weight[k];

@@ -6,6 +6,7 @@
 #include <memory>
 #include <tuple>
 
+#include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/tracking/advection.h"
@@ -19,6 +20,10 @@ namespace fluidtex {
 namespace {
 
 constexpr int kTile = 64;
+/// Texels whose centres lie this far (in texels) outside a rasterised
+/// triangle are still tested: far more than the barycentric tolerance of
+/// the test itself at any triangle size an atlas holds.
+constexpr double kSpanMargin = 0.01;
 
 /// 2D barycentric coordinates of p in (a, b, c); false when degenerate.
 bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out) {
@@ -29,6 +34,26 @@ bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out
   out = Vec3(1.0 - l1 - l2, l1, l2);
   return true;
 }
+
+/// The x extent of triangle `p` within the horizontal band y0 ≤ y ≤ y1, in
+/// `lo`, `hi`; false when they do not meet. The triangle's part in the band
+/// is convex, with its corners among the triangle's corners in the band and
+/// the edges' crossings of the band's two lines.
+bool band_extent(const std::array<Vec2, 3>& p, double y0, double y1, double& lo, double& hi) {
+  lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const auto take = [&](double x) { lo = std::min(lo, x), hi = std::max(hi, x); };
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 &a = p[k], &b = p[(k + 1) % 3];
+    if (a.y() >= y0 && a.y() <= y1) take(a.x());
+    for (const double y : {y0, y1}) {
+      if ((a.y() < y && b.y() > y) || (a.y() > y && b.y() < y)) take(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+    }
+  }
+  return lo <= hi;
+}
+
+/// Texel (x, y)'s centre in atlas coordinates.
+Vec2 texel_centre(int x, int y) { return Vec2(x + 0.5, y + 0.5); }
 
 /// One patch's contribution to a texel, kept until the texel's largest core
 /// weight is known (SynthesisOptions::weight_cutoff).
@@ -47,6 +72,11 @@ struct Accumulator {
   std::vector<int> last_patch;          // per texel: the patch of its last entry
   std::vector<std::size_t> last_entry;  // per texel: that entry's index in `list`
   explicit Accumulator(std::size_t n) : sum_core(n, 0.0), max_core(n, 0.0), last_patch(n, -1), last_entry(n, 0) {}
+  /// Back to empty: only the texels with an entry were written.
+  void clear() {
+    for (const Contribution& k : list) sum_core[k.texel] = 0.0, max_core[k.texel] = 0.0, last_patch[k.texel] = -1;
+    list.clear();
+  }
 };
 
 /// Per-texel sums of the blended samples, in double so that the fixed
@@ -62,6 +92,13 @@ struct TexelSums {
   TexelSums(std::size_t n, int c)
       : channels(c), sum(n * c, 0.0), tail_sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), tail_w(n, 0.0),
         tail_w2(n, 0.0), cross(n, 0.0), best_w(n, 0.0), count(n, 0), tail_count(n, 0), best_patch(n, -1) {}
+  /// Back to zero at texel `i`.
+  void clear(std::size_t i) {
+    for (int c = 0; c < channels; ++c) sum[i * channels + c] = 0.0, tail_sum[i * channels + c] = 0.0;
+    sum_w[i] = sum_w2[i] = tail_w[i] = tail_w2[i] = cross[i] = best_w[i] = 0.0;
+    count[i] = tail_count[i] = 0;
+    best_patch[i] = -1;
+  }
 };
 
 /// Adds patch contributions to a tile's texels (once per patch and texel)
@@ -175,13 +212,22 @@ bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, 
   return out_of_range;
 }
 
+Vec3 TexelMap::bary(std::size_t i) const {
+  FLUIDTEX_DCHECK(face[i] >= 0);
+  const auto& p = corner_px[static_cast<std::size_t>(face[i])];
+  Vec3 l;
+  bary2(texel_centre(static_cast<int>(i % size), static_cast<int>(i / size)), p[0], p[1], p[2], l);
+  l = l.cwiseMax(0.0);
+  return l / l.sum();
+}
+
 TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
   const int n = atlas.size;
   const std::size_t nf = surface.mesh().triangles.size();
   TexelMap map;
   map.size = n;
   map.face.assign(static_cast<std::size_t>(n) * n, -1);
-  map.bary.assign(static_cast<std::size_t>(n) * n, Vec3::Zero());
+  map.corner_px = atlas.corner_px;
   // Charts own disjoint rectangles: rasterise them in parallel, faces of a
   // chart in order (the first face to claim a texel keeps it).
   tbb::parallel_for(std::size_t(0), atlas.charts.size(), [&](std::size_t c) {
@@ -190,12 +236,10 @@ TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
       const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
       (texel_box(lo, hi) & Rect2i{0, 0, n, n}).for_each([&](int x, int y) {
         Vec3 l;
-        if (!bary2(Vec2(x + 0.5, y + 0.5), p[0], p[1], p[2], l)) return;
+        if (!bary2(texel_centre(x, y), p[0], p[1], p[2], l)) return;
         if (l.minCoeff() < -1e-9) return;
         const std::size_t i = texel_index(x, y, n);
-        if (map.face[i] >= 0) return;
-        map.face[i] = f;
-        map.bary[i] = l.cwiseMax(0.0) / l.cwiseMax(0.0).sum();
+        if (map.face[i] < 0) map.face[i] = f;
       });
     }
   });
@@ -296,18 +340,6 @@ struct TriangleBins {
   std::size_t projected = 0;                // triangles sent to the projected fallback
 };
 
-/// One atlas tile's texels and their sums.
-struct TileSums {
-  Rect2i rect;
-  Accumulator acc;
-  explicit TileSums(const Rect2i& r) : rect(r), acc(static_cast<std::size_t>(kTile) * kTile) {}
-  /// Tile-local index of atlas texel (x, y).
-  std::size_t local(int x, int y) const {
-    FLUIDTEX_DCHECK(x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1);
-    return texel_index(x - rect.x0, y - rect.y0, kTile);
-  }
-};
-
 /// The projected fallback's hits of the current patch, per tile-local texel
 /// (its nearest triangle wins), and the texels' surface points and normals,
 /// computed on a texel's first test (a texel is tested against many
@@ -318,24 +350,44 @@ struct ProjectedHits {
     Vec2 uv = Vec2::Zero();
     double w = 0.0, core = 0.0;
   };
+  static constexpr std::size_t kTexels = static_cast<std::size_t>(kTile) * kTile;
   int patch = -1;
-  std::vector<Hit> hit = std::vector<Hit>(static_cast<std::size_t>(kTile) * kTile);
+  std::vector<Hit> hit = std::vector<Hit>(kTexels);
   std::vector<std::size_t> texels;  // with a hit, in first-hit order
-  std::vector<Vec3> point, normal;
-  std::vector<char> point_ready;
+  std::vector<Vec3> point = std::vector<Vec3>(kTexels), normal = std::vector<Vec3>(kTexels);
+  std::vector<char> point_ready = std::vector<char>(kTexels, 0);
 
-  void reserve() {
-    point.resize(static_cast<std::size_t>(kTile) * kTile);
-    normal.resize(point.size());
-    point_ready.assign(point.size(), 0);
-  }
-  /// Adds the current patch's hits to the tile's sums and clears them.
-  void flush(const Contributor& contribute, TileSums& tile) {
+  /// Adds the current patch's hits to `acc` and clears them.
+  void flush(const Contributor& contribute, Accumulator& acc) {
     for (std::size_t j : texels) {
-      contribute.add(tile.acc, j, patch, hit[j].uv, hit[j].w, hit[j].core);
+      contribute.add(acc, j, patch, hit[j].uv, hit[j].w, hit[j].core);
       hit[j] = Hit{};
     }
     texels.clear();
+  }
+};
+
+/// One atlas tile's texels and their sums: a thread's workspace, taken up by
+/// one tile after another (start()), so that no tile allocates.
+struct TileSums {
+  static constexpr std::size_t kTexels = static_cast<std::size_t>(kTile) * kTile;
+  Rect2i rect;
+  Accumulator acc{kTexels};
+  TexelSums sums;
+  ProjectedHits projected;
+  explicit TileSums(int channels) : sums(kTexels, channels) {}
+  /// Empties the workspace (what the last tile wrote) for tile `r`.
+  void start(const Rect2i& r) {
+    for (const Contribution& k : acc.list) sums.clear(k.texel);
+    acc.clear();
+    projected.patch = -1;
+    std::fill(projected.point_ready.begin(), projected.point_ready.end(), 0);
+    rect = r;
+  }
+  /// Tile-local index of atlas texel (x, y).
+  std::size_t local(int x, int y) const {
+    FLUIDTEX_DCHECK(x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1);
+    return texel_index(x - rect.x0, y - rect.y0, kTile);
   }
 };
 
@@ -374,8 +426,8 @@ class Synthesizer {
   void accumulate_located(TileSums& tile) const;
   void accumulate_binned(std::size_t index, TileSums& tile) const;
   void raster_job(const Job& job, TileSums& tile) const;
-  void projected_job(const Job& job, TileSums& tile, ProjectedHits& projected) const;
-  void resolve_tile(const TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const;
+  void projected_job(const Job& job, TileSums& tile) const;
+  void resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const;
 
   const SurfaceIndex& surface_;
   const Atlas& atlas_;
@@ -599,7 +651,7 @@ void Synthesizer::accumulate_located(TileSums& tile) const {
   tile.rect.for_each([&](int x, int y) {
     const std::size_t i = texel_index(x, y, n_);
     if (map_.face[i] < 0) return;
-    const SurfacePoint s = surface_.at(map_.face[i], map_.bary[i]);
+    const SurfacePoint s = surface_.at(map_.face[i], map_.bary(i));
     locator_->locate(s.position, surface_.normal_at(s), hits);
     for (const PatchHit& h : hits) {
       const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
@@ -613,20 +665,18 @@ void Synthesizer::accumulate_located(TileSums& tile) const {
 /// patch's nearest triangle gives a texel its uv and weight. A raster hit of
 /// the same patch, added at once, takes precedence.
 void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile) const {
-  const std::vector<Job>& jobs = bins_.jobs[index];
-  ProjectedHits projected;
-  if (std::any_of(jobs.begin(), jobs.end(), [](const Job& job) { return job.regions >= 0; })) projected.reserve();
-  for (const Job& job : jobs) {
+  ProjectedHits& projected = tile.projected;
+  for (const Job& job : bins_.jobs[index]) {
     if (job.patch != projected.patch) {
-      projected.flush(contribute_, tile);
+      projected.flush(contribute_, tile.acc);
       projected.patch = job.patch;
     }
     if (job.regions < 0)
       raster_job(job, tile);
     else
-      projected_job(job, tile, projected);
+      projected_job(job, tile);
   }
-  projected.flush(contribute_, tile);
+  projected.flush(contribute_, tile.acc);
 }
 
 /// A patch triangle whose corners lie in one chart, rasterised in atlas space.
@@ -637,9 +687,17 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
   const int chart = atlas_.face_chart[patch.projections[tri[0]].face];
   const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
   const std::uint8_t rim = bins_.tri_rim[bins_.tri_px_base[job.patch] + job.tri];
-  const Rect2i box = texel_box(lo, hi).grown(pad_) & tile.rect;
+  const Rect2i box = texel_box(lo, hi).grown(rim ? pad_ : 0) & tile.rect;
+  // Each row's texels are those whose centre lies within `reach` of the
+  // triangle (the rim slack across a boundary edge; otherwise a margin for
+  // the barycentric tolerance below), a span of the box's row.
+  const double reach = (rim ? slack_px_ : 0.0) + kSpanMargin;
   for (int y = box.y0; y < box.y1; ++y) {
-    for (int x = box.x0; x < box.x1; ++x) {
+    double xa, xb;
+    if (!band_extent(px, y + 0.5 - reach, y + 0.5 + reach, xa, xb)) continue;
+    const int x0 = std::max(box.x0, static_cast<int>(std::ceil(xa - reach - 0.5)));
+    const int x1 = std::min(box.x1, static_cast<int>(std::floor(xb + reach - 0.5)) + 1);
+    for (int x = x0; x < x1; ++x) {
       const std::size_t i = texel_index(x, y, n_);
       if (map_.face[i] < 0 || atlas_.face_chart[map_.face[i]] != chart) continue;
       Vec3 l;
@@ -666,19 +724,24 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
 
 /// A patch triangle of the projected fallback: the texels of its regions
 /// projected onto it; hits wait in `projected` for the patch's last job.
-void Synthesizer::projected_job(const Job& job, TileSums& tile, ProjectedHits& projected) const {
+void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
+  ProjectedHits& projected = tile.projected;
   const Patch& patch = patches_[job.patch];
   const Tri& tri = patch.triangles[job.tri];
   const TrianglePrism prism(patch, tri, tolerance_);
   for (const Region& r : bins_.region_lists[job.regions]) {
     const Rect2i box = r.rect & tile.rect;
-    for (int y = box.y0; y < box.y1; ++y) {
-      for (int x = box.x0; x < box.x1; ++x) {
-        const std::size_t i = texel_index(x, y, n_);
-        if (map_.face[i] != r.face) continue;
-        const std::size_t j = tile.local(x, y);
+    // The face's texels (ascending, TexelMap::texels) in each row of the box.
+    const auto first = map_.texels.begin() + map_.face_start[r.face], last = map_.texels.begin() + map_.face_start[r.face + 1];
+    auto it = first;
+    for (int y = box.y0; y < box.y1 && it != last; ++y) {
+      it = std::lower_bound(it, last, static_cast<std::uint32_t>(texel_index(box.x0, y, n_)));
+      const std::size_t row_end = texel_index(box.x1, y, n_);
+      for (; it != last && *it < row_end; ++it) {
+        const std::size_t i = *it;
+        const std::size_t j = tile.local(static_cast<int>(i % n_), y);
         if (!projected.point_ready[j]) {
-          const SurfacePoint s = surface_.at(r.face, map_.bary[i]);
+          const SurfacePoint s = surface_.at(r.face, map_.bary(i));
           projected.point[j] = s.position, projected.normal[j] = surface_.normal_at(s), projected.point_ready[j] = 1;
         }
         if (!prism.may_cover(projected.point[j])) continue;
@@ -699,11 +762,11 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile, ProjectedHits& p
 
 /// Resolves Eq. 7 (or linear) for every chart texel of the tile, clamps, and
 /// fills the outputs.
-void Synthesizer::resolve_tile(const TileSums& tile, SynthesisResult& result, std::vector<char>& mask,
+void Synthesizer::resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask,
                                Tally& tally) const {
   const int nc = exemplar_.channels();
   const Accumulator& acc = tile.acc;
-  TexelSums s(acc.sum_core.size(), nc);
+  TexelSums& s = tile.sums;
   contribute_.blend(acc, s);
   std::vector<double> sum(nc);
   for (int y = tile.rect.y0; y < tile.rect.y1; ++y) {
@@ -752,9 +815,11 @@ SynthesisResult Synthesizer::run() {
   // contributions in patch order), then resolve.
   std::vector<char> mask(texel_count, 0);
   std::vector<Tally> tally(tile_count);
+  tbb::enumerable_thread_specific<TileSums> workspace(nc);
   tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t index) {
     if (!tile_live[index]) return;
-    TileSums tile(tiles_.rect(index));
+    TileSums& tile = workspace.local();
+    tile.start(tiles_.rect(index));
     if (locator_)
       accumulate_located(tile);
     else

@@ -146,8 +146,8 @@ TEST(FlowMap, SynthesisBlendsBothPhasesOverEveryChartTexel) {
       const Tri& t = surface.mesh().triangles[map.face[i]];
       double sum[3] = {0, 0, 0}, sw = 0, sw2 = 0;
       for (int k = 0; k < 2; ++k) {
-        const Vec2 uv = map.bary[i][0] * frame.uv[k][t[0]] + map.bary[i][1] * frame.uv[k][t[1]] +
-                        map.bary[i][2] * frame.uv[k][t[2]];
+        const Vec2 uv = map.bary(i)[0] * frame.uv[k][t[0]] + map.bary(i)[1] * frame.uv[k][t[1]] +
+                        map.bary(i)[2] * frame.uv[k][t[2]];
         float s[3];
         exemplar.sample(frame.anchor[k].x() + uv.x(), frame.anchor[k].y() + uv.y(), s);
         const double w = frame.weight[k];

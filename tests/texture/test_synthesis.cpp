@@ -133,7 +133,7 @@ TEST(Atlas, TexelMapHitsItsFace) {
     ++inside;
     // The texel centre is where the face's barycentrics put it in the atlas.
     const auto& c = atlas.corner_px[map.face[i]];
-    const Vec2 p = map.bary[i][0] * c[0] + map.bary[i][1] * c[1] + map.bary[i][2] * c[2];
+    const Vec2 p = map.bary(i)[0] * c[0] + map.bary(i)[1] * c[1] + map.bary(i)[2] * c[2];
     EXPECT_NEAR(p.x(), static_cast<double>(i % map.size) + 0.5, 1e-6);
     EXPECT_NEAR(p.y(), static_cast<double>(i / map.size) + 0.5, 1e-6);
   }
@@ -158,7 +158,7 @@ TEST(Synthesis, SinglePatchReproducesTheExemplar) {
   double worst = 0.0;
   for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
     if (scene.map.face[i] < 0) continue;
-    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary(i)).position;
     float expect[3];
     exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect[c]));
@@ -185,7 +185,7 @@ TEST(Synthesis, CoverageTailBlendsOnlyWhereNoDiskCovers) {
   double worst = 0.0;
   for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
     if (scene.map.face[i] < 0) continue;
-    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+    const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary(i)).position;
     const double da = Vec2(q.x(), q.y()).norm(), db = Vec2(q.x() - 1.0, q.y() - 1.0).norm();
     if (da < 0.25 || db < 0.25) {
       ++corner;
@@ -231,7 +231,7 @@ TEST(Synthesis, WeightCutoffDropsWeakPatchesContinuously) {
       if (scene.map.face[i] < 0) continue;
       ++n;
       EXPECT_EQ(r.count.pixels[i], wb > 0.0 ? 2.0f : 1.0f);
-      const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary[i]).position;
+      const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary(i)).position;
       const double cb = std::cos(0.8), sb = std::sin(0.8);
       float a[3], b[3];
       exemplar.sample(0.25 + q.x(), 0.5 + q.y(), a);

@@ -92,9 +92,14 @@ struct SynthesisResult {
 struct TexelMap {
   int size = 0;
   std::vector<int> face;                  ///< per texel (row-major, y down), −1 outside every chart
-  std::vector<Vec3> bary;                 ///< per texel, barycentric coordinates in that face
   std::vector<std::uint32_t> face_start;  ///< texels of face f: texels[face_start[f] .. face_start[f+1])
   std::vector<std::uint32_t> texels;      ///< texel indices grouped by face, ascending within a face
+  std::vector<std::array<Vec2, 3>> corner_px;  ///< per face, its corners in the atlas (Atlas::corner_px)
+
+  /// Barycentric coordinates of chart texel `i`'s centre in its face
+  /// (face[i] ≥ 0), clamped into the face. Computed when asked, not stored:
+  /// a stored copy would be 24 bytes per atlas texel (100 MB at 2048²).
+  Vec3 bary(std::size_t i) const;
 };
 
 /// One exemplar sample's term in the per-texel sums: R − R̂ for Eq. 7, R for
