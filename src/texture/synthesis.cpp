@@ -55,6 +55,51 @@ bool band_extent(const std::array<Vec2, 3>& p, double y0, double y1, double& lo,
 /// Texel (x, y)'s centre in atlas coordinates.
 Vec2 texel_centre(int x, int y) { return Vec2(x + 0.5, y + 0.5); }
 
+/// A surface face's points as an affine function of atlas coordinates:
+/// q(x, y) = origin + x·dx + y·dy (the texel map's barycentrics are affine
+/// in the texel centre, up to their clamp into the face).
+struct AtlasPlane {
+  Vec3 origin, dx, dy;
+  bool valid = false;
+
+  AtlasPlane(const FrameMesh& mesh, int f, const std::array<Vec2, 3>& p) {
+    const Tri& t = mesh.triangles[f];
+    const Vec3& a = mesh.positions[t[0]];
+    const Vec3 e1 = mesh.positions[t[1]] - a, e2 = mesh.positions[t[2]] - a;
+    const Vec2 u = p[1] - p[0], v = p[2] - p[0];
+    const double det = u.x() * v.y() - v.x() * u.y();
+    if (!(std::abs(det) > 1e-300)) return;
+    // (l1, l2) = M⁻¹((x, y) − p0), M = [u v]; q = a + l1·e1 + l2·e2.
+    dx = (v.y() * e1 - u.y() * e2) / det;
+    dy = (u.x() * e2 - v.x() * e1) / det;
+    origin = a - p[0].x() * dx - p[0].y() * dy;
+    valid = origin.allFinite() && dx.allFinite() && dy.allFinite();
+  }
+
+  /// The texel columns [x0, x1) of row y whose centres' points may pass
+  /// every half-space n·q ≥ c − margin; false when none can.
+  bool row_span(const std::array<TrianglePrism::HalfSpace, 5>& hs, int y, double margin, int& x0, int& x1) const {
+    double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+    const double yc = y + 0.5;
+    for (const auto& h : hs) {
+      const double a = h.n.dot(dx), rest = h.n.dot(origin) + yc * h.n.dot(dy) - h.c + margin;  // a·xc + rest ≥ 0
+      if (a > 0.0)
+        lo = std::max(lo, -rest / a);
+      else if (a < 0.0)
+        hi = std::min(hi, -rest / a);
+      else if (rest < 0.0)
+        return false;
+    }
+    if (!(lo <= hi)) return false;
+    // Centres x + ½ in [lo, hi], within [x0, x1) (clamped in double: lo and
+    // hi may be far outside int).
+    const double first = std::clamp(std::ceil(lo - 0.5), double(x0), double(x1));
+    const double end = std::clamp(std::floor(hi - 0.5) + 1.0, double(x0), double(x1));
+    x0 = static_cast<int>(first), x1 = static_cast<int>(end);
+    return x0 < x1;
+  }
+};
+
 /// One patch's contribution to a texel, kept until the texel's largest core
 /// weight is known (SynthesisOptions::weight_cutoff).
 struct Contribution {
@@ -729,14 +774,26 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
   const Patch& patch = patches_[job.patch];
   const Tri& tri = patch.triangles[job.tri];
   const TrianglePrism prism(patch, tri, tolerance_);
+  std::array<TrianglePrism::HalfSpace, 5> half_spaces;
+  bool everything = true;
+  const bool bounded = prism.half_spaces(half_spaces, everything);
+  if (!bounded && !everything) return;
+  // Far above the rounding of the affine map and the clamp of the texel map's
+  // barycentrics, far below a texel: the span only skips texels that the
+  // prism test would reject.
+  const double margin = 1e-3 * tolerance_;
   for (const Region& r : bins_.region_lists[job.regions]) {
     const Rect2i box = r.rect & tile.rect;
-    // The face's texels (ascending, TexelMap::texels) in each row of the box.
-    const auto first = map_.texels.begin() + map_.face_start[r.face], last = map_.texels.begin() + map_.face_start[r.face + 1];
-    auto it = first;
+    if (box.empty()) continue;
+    const AtlasPlane plane(surface_.mesh(), r.face, map_.corner_px[r.face]);
+    // The face's texels (ascending, TexelMap::texels) in each row's span.
+    const auto last = map_.texels.begin() + map_.face_start[r.face + 1];
+    auto it = map_.texels.begin() + map_.face_start[r.face];
     for (int y = box.y0; y < box.y1 && it != last; ++y) {
-      it = std::lower_bound(it, last, static_cast<std::uint32_t>(texel_index(box.x0, y, n_)));
-      const std::size_t row_end = texel_index(box.x1, y, n_);
+      int x0 = box.x0, x1 = box.x1;
+      if (bounded && plane.valid && !plane.row_span(half_spaces, y, margin, x0, x1)) continue;
+      it = std::lower_bound(it, last, static_cast<std::uint32_t>(texel_index(x0, y, n_)));
+      const std::size_t row_end = texel_index(x1, y, n_);
       for (; it != last && *it < row_end; ++it) {
         const std::size_t i = *it;
         const std::size_t j = tile.local(static_cast<int>(i % n_), y);

@@ -575,6 +575,22 @@ TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
       const bool full = project_to_patch_triangle(patch, patch.triangles[0], q, n, tolerance, bary, dist2);
       const bool may = prism.may_cover(q);
       ASSERT_TRUE(may || !full) << "trial " << trial << " point " << k;
+      // The same tests as half-spaces (the synthesis' row spans), up to rounding.
+      std::array<TrianglePrism::HalfSpace, 5> half_spaces;
+      bool everything = false;
+      if (prism.half_spaces(half_spaces, everything)) {
+        const double eps = 1e-9 * (scale + offset.norm());
+        bool inside_loose = true, inside_strict = true;
+        for (const auto& h : half_spaces) {
+          const double v = h.n.dot(q) - h.c;
+          inside_loose = inside_loose && v >= -eps;
+          inside_strict = inside_strict && v >= eps;
+        }
+        ASSERT_TRUE(!may || inside_loose) << "trial " << trial << " point " << k;
+        ASSERT_TRUE(!inside_strict || may) << "trial " << trial << " point " << k;
+      } else {
+        ASSERT_EQ(may, everything) << "trial " << trial;
+      }
       covered += full;
       prefiltered += !may;
     }

@@ -56,6 +56,22 @@ class TrianglePrism {
     return true;
   }
 
+  /// may_cover's tests as half-spaces: q passes where n·q ≥ c for each.
+  struct HalfSpace {
+    Vec3 n;
+    double c;
+  };
+  /// False where may_cover is constant: then `everything` says which.
+  bool half_spaces(std::array<HalfSpace, 5>& out, bool& everything) const {
+    everything = !degenerate_;
+    if (!checked_) return false;
+    const double h = corner_[0].dot(normal_);
+    out[0] = {normal_, h - height_};
+    out[1] = {-normal_, -h - height_};
+    for (int j = 0; j < 3; ++j) out[2 + j] = {inward_[j], corner_[j].dot(inward_[j]) - reach_};
+    return true;
+  }
+
  private:
   bool degenerate_ = false;  // zero area: covers nothing
   bool checked_ = false;     // false: every point goes to the full test (non-finite corners)
