@@ -774,6 +774,7 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
   const Patch& patch = patches_[job.patch];
   const Tri& tri = patch.triangles[job.tri];
   const TrianglePrism prism(patch, tri, tolerance_);
+  const TriangleProjection projection(patch, tri, tolerance_);
   std::array<TrianglePrism::HalfSpace, 5> half_spaces;
   bool everything = true;
   const bool bounded = prism.half_spaces(half_spaces, everything);
@@ -804,8 +805,7 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
         if (!prism.may_cover(projected.point[j])) continue;
         Vec3 l;
         double dist2;
-        if (!project_to_patch_triangle(patch, tri, projected.point[j], projected.normal[j], tolerance_, l, dist2))
-          continue;
+        if (!projection.project(projected.point[j], projected.normal[j], l, dist2)) continue;
         ProjectedHits::Hit& slot = projected.hit[j];
         if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
         if (std::isinf(slot.dist2)) projected.texels.push_back(j);

@@ -11,22 +11,27 @@
 
 namespace fluidtex {
 
-bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
-                               Vec3& bary, double& dist2) {
-  const Vec3& a = patch.positions[t[0]];
-  const Vec3& b = patch.positions[t[1]];
-  const Vec3& c = patch.positions[t[2]];
-  const Vec3 tn = (b - a).cross(c - a);
-  const double tn2 = tn.squaredNorm();
-  if (!(tn2 > 0.0) || tn.dot(n) <= 0.0) return false;  // degenerate, other side of a sheet, or a fold
-  const double off = tn.dot(q - a) / tn2;
-  if (off * off * tn2 > tolerance * tolerance) return false;
-  const Vec3 qp = q - tn * off;  // onto the triangle's plane
-  const Vec3 v0 = b - a, v1 = c - a, v2 = qp - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double den = d00 * d11 - d01 * d01;
-  if (!(den > 0.0)) return false;
-  const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den, l0 = 1.0 - l1 - l2;
+TriangleProjection::TriangleProjection(const Patch& patch, const Tri& t, double tolerance)
+    : a_(patch.positions[t[0]]), b_(patch.positions[t[1]]), c_(patch.positions[t[2]]) {
+  tn_ = (b_ - a_).cross(c_ - a_);
+  tn2_ = tn_.squaredNorm();
+  v0_ = b_ - a_, v1_ = c_ - a_;
+  d00_ = v0_.dot(v0_), d01_ = v0_.dot(v1_), d11_ = v1_.dot(v1_);
+  den_ = d00_ * d11_ - d01_ * d01_;
+  tolerance2_ = tolerance * tolerance;
+  const double slack = projection_slack(tolerance);
+  slack2_ = slack * slack;
+}
+
+bool TriangleProjection::project(const Vec3& q, const Vec3& n, Vec3& bary, double& dist2) const {
+  if (!(tn2_ > 0.0) || tn_.dot(n) <= 0.0) return false;  // degenerate, other side of a sheet, or a fold
+  const double off = tn_.dot(q - a_) / tn2_;
+  if (off * off * tn2_ > tolerance2_) return false;
+  const Vec3 qp = q - tn_ * off;  // onto the triangle's plane
+  const Vec3 v2 = qp - a_;
+  const double d20 = v2.dot(v0_), d21 = v2.dot(v1_);
+  if (!(den_ > 0.0)) return false;
+  const double l1 = (d11_ * d20 - d01_ * d21) / den_, l2 = (d00_ * d21 - d01_ * d20) / den_, l0 = 1.0 - l1 - l2;
   if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9) {
     bary = Vec3(l0, l1, l2).cwiseMax(0.0);
     bary /= bary.sum();
@@ -34,12 +39,16 @@ bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, 
     return true;
   }
   // Just outside: the closest point of the triangle, within the slack.
-  bary = barycentric(qp, a, b, c);  // clamped to the triangle
-  const Vec3 closest = interpolate(bary, a, b, c);
-  const double slack = projection_slack(tolerance);
-  if ((closest - qp).squaredNorm() > slack * slack) return false;
+  bary = barycentric(qp, a_, b_, c_);  // clamped to the triangle
+  const Vec3 closest = interpolate(bary, a_, b_, c_);
+  if ((closest - qp).squaredNorm() > slack2_) return false;
   dist2 = (closest - q).squaredNorm();
   return true;
+}
+
+bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
+                               Vec3& bary, double& dist2) {
+  return TriangleProjection(patch, t, tolerance).project(q, n, bary, dist2);
 }
 
 TrianglePrism::TrianglePrism(const Patch& patch, const Tri& t, double tolerance) {

@@ -37,6 +37,19 @@ inline double projection_slack(double tolerance) { return 0.1 * tolerance; }
 bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,
                                Vec3& bary, double& dist2);
 
+/// project_to_patch_triangle for one triangle and many points: what depends
+/// only on the triangle is computed once (the same arithmetic, so the same
+/// results).
+class TriangleProjection {
+ public:
+  TriangleProjection(const Patch& patch, const Tri& t, double tolerance);
+  bool project(const Vec3& q, const Vec3& n, Vec3& bary, double& dist2) const;
+
+ private:
+  Vec3 a_, b_, c_, tn_, v0_, v1_;
+  double tn2_, d00_, d01_, d11_, den_, tolerance2_, slack2_;
+};
+
 /// A cheaper, conservative form of project_to_patch_triangle's tests for one
 /// triangle tested against many points: `may_cover(q)` is false only where
 /// project_to_patch_triangle is false (q farther than the tolerance from the
