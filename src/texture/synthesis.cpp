@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <tuple>
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
@@ -75,18 +76,31 @@ struct AtlasPlane {
     origin = a - p[0].x() * dx - p[0].y() * dy;
     valid = origin.allFinite() && dx.allFinite() && dy.allFinite();
   }
+};
 
-  /// The texel columns [x0, x1) of row y whose centres' points may pass
-  /// every half-space n·q ≥ c − margin; false when none can.
-  bool row_span(const std::array<TrianglePrism::HalfSpace, 5>& hs, int y, double margin, int& x0, int& x1) const {
+/// The rows of a face's texels that a set of half-spaces n·q ≥ c − margin
+/// (TrianglePrism::half_spaces) leaves, each half-space as a bound on the
+/// texel centre's x: a·x + b·y + o ≥ 0 on the face's AtlasPlane.
+class RowSpans {
+ public:
+  RowSpans(const AtlasPlane& plane, const std::array<TrianglePrism::HalfSpace, 5>& hs, double margin) {
+    for (std::size_t k = 0; k < hs.size(); ++k) {
+      a_[k] = hs[k].n.dot(plane.dx), b_[k] = hs[k].n.dot(plane.dy);
+      o_[k] = hs[k].n.dot(plane.origin) - hs[k].c + margin;
+    }
+  }
+
+  /// Narrows [x0, x1) to the texels of row y whose centres may pass; false
+  /// when none can.
+  bool row(int y, int& x0, int& x1) const {
     double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
     const double yc = y + 0.5;
-    for (const auto& h : hs) {
-      const double a = h.n.dot(dx), rest = h.n.dot(origin) + yc * h.n.dot(dy) - h.c + margin;  // a·xc + rest ≥ 0
-      if (a > 0.0)
-        lo = std::max(lo, -rest / a);
-      else if (a < 0.0)
-        hi = std::min(hi, -rest / a);
+    for (std::size_t k = 0; k < a_.size(); ++k) {
+      const double rest = o_[k] + yc * b_[k];  // a·xc + rest ≥ 0
+      if (a_[k] > 0.0)
+        lo = std::max(lo, -rest / a_[k]);
+      else if (a_[k] < 0.0)
+        hi = std::min(hi, -rest / a_[k]);
       else if (rest < 0.0)
         return false;
     }
@@ -98,6 +112,9 @@ struct AtlasPlane {
     x0 = static_cast<int>(first), x1 = static_cast<int>(end);
     return x0 < x1;
   }
+
+ private:
+  std::array<double, 5> a_, b_, o_;
 };
 
 /// One patch's contribution to a texel, kept until the texel's largest core
@@ -787,12 +804,14 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
     const Rect2i box = r.rect & tile.rect;
     if (box.empty()) continue;
     const AtlasPlane plane(surface_.mesh(), r.face, map_.corner_px[r.face]);
+    std::optional<RowSpans> row_spans;
+    if (bounded && plane.valid) row_spans.emplace(plane, half_spaces, margin);
     // The face's texels (ascending, TexelMap::texels) in each row's span.
     const auto last = map_.texels.begin() + map_.face_start[r.face + 1];
     auto it = map_.texels.begin() + map_.face_start[r.face];
     for (int y = box.y0; y < box.y1 && it != last; ++y) {
       int x0 = box.x0, x1 = box.x1;
-      if (bounded && plane.valid && !plane.row_span(half_spaces, y, margin, x0, x1)) continue;
+      if (row_spans && !row_spans->row(y, x0, x1)) continue;
       it = std::lower_bound(it, last, static_cast<std::uint32_t>(texel_index(x0, y, n_)));
       const std::size_t row_end = texel_index(x1, y, n_);
       for (; it != last && *it < row_end; ++it) {
