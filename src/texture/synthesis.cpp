@@ -47,7 +47,8 @@ bool band_extent(const std::array<Vec2, 3>& p, double y0, double y1, double& lo,
     const Vec2 &a = p[k], &b = p[(k + 1) % 3];
     if (a.y() >= y0 && a.y() <= y1) take(a.x());
     for (const double y : {y0, y1}) {
-      if ((a.y() < y && b.y() > y) || (a.y() > y && b.y() < y)) take(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+      if ((a.y() < y && b.y() > y) || (a.y() > y && b.y() < y))
+        take(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
     }
   }
   return lo <= hi;
@@ -838,8 +839,7 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
 
 /// Resolves Eq. 7 (or linear) for every chart texel of the tile, clamps, and
 /// fills the outputs.
-void Synthesizer::resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask,
-                               Tally& tally) const {
+void Synthesizer::resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const {
   const int nc = exemplar_.channels();
   const Accumulator& acc = tile.acc;
   TexelSums& s = tile.sums;
@@ -891,6 +891,8 @@ SynthesisResult Synthesizer::run() {
   // contributions in patch order), then resolve.
   std::vector<char> mask(texel_count, 0);
   std::vector<Tally> tally(tile_count);
+  // One workspace per thread: a tile's body runs no parallel work of its
+  // own, so a thread never takes up another tile while in one.
   tbb::enumerable_thread_specific<TileSums> workspace(nc);
   tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t index) {
     if (!tile_live[index]) return;

@@ -76,8 +76,8 @@ std::string pack_streams(const std::array<std::string, kStreams>& streams) {
     for (std::size_t at = 0; at < raw.size(); at += kChunk) {
       const std::size_t n = std::min(kChunk, raw.size() - at);
       buffer.resize(n + BLOSC_MAX_OVERHEAD);
-      const int written = blosc_compress_ctx(kBloscLevel, BLOSC_SHUFFLE, kTypeSize[s], n, raw.data() + at, buffer.data(),
-                                             buffer.size(), "zstd", 0, 1);
+      const int written = blosc_compress_ctx(kBloscLevel, BLOSC_SHUFFLE, kTypeSize[s], n, raw.data() + at,
+                                             buffer.data(), buffer.size(), "zstd", 0, 1);
       if (written <= 0) throw InternalError("state file: compression failed (" + std::to_string(written) + ")");
       const std::uint64_t packed = static_cast<std::uint64_t>(written);
       append_raw(out, &packed, sizeof packed);

@@ -91,9 +91,9 @@ struct SynthesisResult {
 /// Which surface face (and where in it) each atlas texel centre shows.
 struct TexelMap {
   int size = 0;
-  std::vector<int> face;                  ///< per texel (row-major, y down), −1 outside every chart
-  std::vector<std::uint32_t> face_start;  ///< texels of face f: texels[face_start[f] .. face_start[f+1])
-  std::vector<std::uint32_t> texels;      ///< texel indices grouped by face, ascending within a face
+  std::vector<int> face;                       ///< per texel (row-major, y down), −1 outside every chart
+  std::vector<std::uint32_t> face_start;       ///< texels of face f: texels[face_start[f] .. face_start[f+1])
+  std::vector<std::uint32_t> texels;           ///< texel indices grouped by face, ascending within a face
   std::vector<std::array<Vec2, 3>> corner_px;  ///< per face, its corners in the atlas (Atlas::corner_px)
 
   /// Barycentric coordinates of chart texel `i`'s centre in its face
