@@ -278,8 +278,12 @@ bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, 
 Vec3 TexelMap::bary(std::size_t i) const {
   FLUIDTEX_DCHECK(face[i] >= 0);
   const auto& p = corner_px[static_cast<std::size_t>(face[i])];
-  Vec3 l;
-  bary2(texel_centre(static_cast<int>(i % size), static_cast<int>(i / size)), p[0], p[1], p[2], l);
+  // build_texel_map claimed the texel with these same corners, so bary2
+  // succeeds; the initial value only keeps the compiler's flow analysis quiet.
+  Vec3 l = Vec3::Constant(1.0 / 3.0);
+  [[maybe_unused]] const bool ok =
+      bary2(texel_centre(static_cast<int>(i % size), static_cast<int>(i / size)), p[0], p[1], p[2], l);
+  FLUIDTEX_DCHECK(ok);
   l = l.cwiseMax(0.0);
   return l / l.sum();
 }
