@@ -108,12 +108,20 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     return to;
   };
   const SurfacePoint centre = project(centre_target);
-  if (!centre.valid() || centre.distance > max_projection) return AdvectResult::CentreLost;
+  if (!centre.valid()) return AdvectResult::CentreLost;
+  // A centre that misses the surface is mostly a near miss (an overshoot of
+  // a fast sheet, noisy velocities) where the patch still lies on the
+  // liquid: with recut, the patch's vertices decide (below). One that left
+  // through an open rim (an outflow) has left the liquid.
+  const bool centre_missed = centre.distance > max_projection;
+  if (centre_missed && (options.distorted != Distorted::Recut || left_through_rim(centre, next, max_projection)))
+    return AdvectResult::CentreLost;
   patch.motion = (centre.position - patch.center.point.position).norm() / radius;
   patch.center.point = centre;
   patch.center.normal = next.normal_at(centre);
 
   std::vector<std::uint8_t> keep(nv, 1);
+  std::size_t kept = nv;
   bool removed = false, damaged = false;
   for (std::size_t v = 0; v < nv; ++v) {
     SurfacePoint p = project(targets[v]);
@@ -124,6 +132,7 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     if (!raw.empty() && p.valid() && next.on_boundary(p, max_projection)) p = project(raw[v]);
     if (!p.valid() || p.distance > max_projection || left_through_rim(p, next, max_projection)) {
       keep[v] = 0;
+      --kept;
       removed = true;
       damaged = damaged || patch.uvs[v].norm() < radius;
       continue;
@@ -131,11 +140,13 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     patch.projections[v] = p;
     patch.positions[v] = p.position;
   }
+  if (centre_missed && !(2 * kept > nv)) return AdvectResult::CentreLost;
   if (removed)
     remove_vertices(patch, keep, next);
   else
     update_border(patch, next);
   if (patch.triangles.empty()) return AdvectResult::Emptied;
+  if (centre_missed) return AdvectResult::CentreMoved;
   return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
 }
 

@@ -150,6 +150,10 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
         o.distortion_test == DistortionTest::Vertex) {
       distorted[i] = RetireCause::VerticesLost;
     }
+    // A patch whose centre was moved back onto the surface is recut around
+    // it, or fades out (as lost) where no patch can be cut there.
+    const bool moved = advected[i] == AdvectResult::CentreMoved;
+    if (moved && distorted[i] == RetireCause::None) distorted[i] = RetireCause::CentreLost;
     if (distorted[i] != RetireCause::None && o.distorted == Distorted::Recut && !is_fading_out(patches_[i].state)) {
       std::optional<Patch> recut =
           recut_patch(patches_[i], surface, o, settings_.seed, frame, settings_.patch_edge * o.d());

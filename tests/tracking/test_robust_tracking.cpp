@@ -513,6 +513,59 @@ TEST(Recut, AStretchedPatchIsCutUndistortedAroundTheSameTexture) {
   EXPECT_GT(off_error, 0.1 * d);
 }
 
+TEST(Recut, APatchWhoseCentreMissesTheSurfaceIsMovedAndRecutNotLost) {
+  // Still liquid whose next frame has a small hole where a patch's centre
+  // is: the centre misses the surface by more than mpt, most of the patch
+  // still lies on it.
+  const FrameMesh before = test::flat_grid(40);
+  const SurfaceIndex previous(before);
+  const Vec3 c0(0.45, 0.5, 0);
+  TrackingOptions o = TrackingOptions{}.resolved(1.0);
+  o.radius = 0.15;
+  // The liquid without the faces within `r` of c0.
+  const auto with_hole = [&](double r) {
+    FrameMesh m = before;
+    std::erase_if(m.triangles, [&](const Tri& t) {
+      return ((m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]) / 3.0 - c0).norm() < r;
+    });
+    return m;
+  };
+  const double hole = 2.0 * o.mpt();
+  const FrameMesh after = with_hole(hole);
+  const SurfaceIndex next(after);
+  ASSERT_GT((next.closest_point(c0).position - c0).norm(), o.mpt());
+  SurfaceSample c;
+  c.point = previous.closest_point(c0);
+  c.normal = previous.normal_at(c.point);
+  const std::optional<Patch> built = build_patch(previous, c, o, 7, 1, 1, 0.25 * o.d());
+  ASSERT_TRUE(built);
+
+  // The paper's rule (--distorted fade): the patch is lost.
+  o.distorted = Distorted::Fade;
+  Patch lost = *built;
+  EXPECT_EQ(advect_patch(lost, previous, next, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
+            AdvectResult::CentreLost);
+
+  // With recut: the centre moves to the hole's rim and the patch is cut
+  // again there, with its identity.
+  o.distorted = Distorted::Recut;
+  Patch moved = *built;
+  ASSERT_EQ(advect_patch(moved, previous, next, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
+            AdvectResult::CentreMoved);
+  EXPECT_TRUE(moved.center.point.valid());
+  EXPECT_LT((moved.center.point.position - c0).norm(), hole + 0.05);
+  const std::optional<Patch> cut = recut_patch(moved, next, o, 1, 2, 0.25 * o.d());
+  ASSERT_TRUE(cut);
+  EXPECT_EQ(cut->id, built->id);
+
+  // A patch mostly over the hole is lost even with recut.
+  const FrameMesh gone = with_hole(0.25);
+  const SurfaceIndex far(gone);
+  Patch over = *built;
+  EXPECT_EQ(advect_patch(over, previous, far, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
+            AdvectResult::CentreLost);
+}
+
 TEST(Recut, ACrushedPatchIsCutAgainNotReplaced) {
   // The liquid converges towards x = 0 for 16 frames (e⁻² of its width: a
   // Sorkine distortion of 7.4, beyond what relaxation takes out). The paper

@@ -73,6 +73,11 @@ enum class AdvectResult {
   Damaged,     ///< a vertex inside the disk (|uv| < d, where K_S > 0) was removed
   CentreLost,  ///< the centre left the surface (beyond mpt): the patch is lost
   Emptied,     ///< no triangle is left: the patch is lost
+  /// --distorted recut only: the centre missed the surface (beyond mpt) but
+  /// more than half of the vertices stayed on it; the centre is moved to
+  /// the surface point nearest its advected position, and the tracker recuts
+  /// the patch there (or fades it out) instead of losing it.
+  CentreMoved,
 };
 inline bool is_lost(AdvectResult r) { return r == AdvectResult::CentreLost || r == AdvectResult::Emptied; }
 
