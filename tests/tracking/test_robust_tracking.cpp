@@ -514,24 +514,24 @@ TEST(Recut, AStretchedPatchIsCutUndistortedAroundTheSameTexture) {
 }
 
 TEST(Recut, APatchWhoseCentreMissesTheSurfaceIsMovedAndRecutNotLost) {
-  // Still liquid whose next frame has a small hole where a patch's centre
-  // is: the centre misses the surface by more than mpt, most of the patch
-  // still lies on it.
+  // Still liquid whose next frame has sunk by 2 mpt within `r` of a patch's
+  // centre (a closed surface moving away, not a hole: a hole's rim would be
+  // an outflow): the centre misses the surface by more than mpt, most of
+  // the patch still lies on it.
   const FrameMesh before = test::flat_grid(40);
   const SurfaceIndex previous(before);
   const Vec3 c0(0.45, 0.5, 0);
   TrackingOptions o = TrackingOptions{}.resolved(1.0);
   o.radius = 0.15;
-  // The liquid without the faces within `r` of c0.
-  const auto with_hole = [&](double r) {
+  const double depth = 2.0 * o.mpt();
+  const auto sunk = [&](double r) {
     FrameMesh m = before;
-    std::erase_if(m.triangles, [&](const Tri& t) {
-      return ((m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]) / 3.0 - c0).norm() < r;
-    });
+    for (Vec3& p : m.positions) {
+      if ((p - c0).norm() < r) p.z() -= depth;
+    }
     return m;
   };
-  const double hole = 2.0 * o.mpt();
-  const FrameMesh after = with_hole(hole);
+  const FrameMesh after = sunk(0.1);
   const SurfaceIndex next(after);
   ASSERT_GT((next.closest_point(c0).position - c0).norm(), o.mpt());
   SurfaceSample c;
@@ -539,30 +539,49 @@ TEST(Recut, APatchWhoseCentreMissesTheSurfaceIsMovedAndRecutNotLost) {
   c.normal = previous.normal_at(c.point);
   const std::optional<Patch> built = build_patch(previous, c, o, 7, 1, 1, 0.25 * o.d());
   ASSERT_TRUE(built);
+  const auto advect = [&](Patch& patch, const SurfaceIndex& to) {
+    return advect_patch(patch, previous, to, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth);
+  };
 
   // The paper's rule (--distorted fade): the patch is lost.
   o.distorted = Distorted::Fade;
   Patch lost = *built;
-  EXPECT_EQ(advect_patch(lost, previous, next, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
-            AdvectResult::CentreLost);
+  EXPECT_EQ(advect(lost, next), AdvectResult::CentreLost);
 
-  // With recut: the centre moves to the hole's rim and the patch is cut
+  // With recut: the centre moves onto the sunk surface and the patch is cut
   // again there, with its identity.
   o.distorted = Distorted::Recut;
   Patch moved = *built;
-  ASSERT_EQ(advect_patch(moved, previous, next, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
-            AdvectResult::CentreMoved);
+  ASSERT_EQ(advect(moved, next), AdvectResult::CentreMoved);
   EXPECT_TRUE(moved.center.point.valid());
-  EXPECT_LT((moved.center.point.position - c0).norm(), hole + 0.05);
+  EXPECT_NEAR(moved.center.point.position.z(), -depth, 1e-9);
   const std::optional<Patch> cut = recut_patch(moved, next, o, 1, 2, 0.25 * o.d());
   ASSERT_TRUE(cut);
   EXPECT_EQ(cut->id, built->id);
 
-  // A patch mostly over the hole is lost even with recut.
-  const FrameMesh gone = with_hole(0.25);
+  // A patch that has sunk entirely is lost even with recut.
+  const FrameMesh gone = sunk(0.3);
   const SurfaceIndex far(gone);
   Patch over = *built;
-  EXPECT_EQ(advect_patch(over, previous, far, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
+  EXPECT_EQ(advect(over, far), AdvectResult::CentreLost);
+}
+
+TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowIsLost) {
+  // Liquid flowing out through the open edge x = 1: a patch whose centre
+  // has left through it is lost, even while most of its vertices remain.
+  const double shift = 0.09;
+  const FrameMesh flow = test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return Vec3(24 * shift, 0, 0); });
+  const SurfaceIndex previous(flow), next(flow);
+  TrackingOptions o = TrackingOptions{}.resolved(1.0);
+  o.radius = 0.15;
+  o.distorted = Distorted::Recut;
+  ASSERT_GT(shift - 0.05, o.mpt());  // the centre ends beyond the edge by more than mpt
+  SurfaceSample c;
+  c.point = previous.closest_point(Vec3(0.95, 0.5, 0));
+  c.normal = previous.normal_at(c.point);
+  std::optional<Patch> patch = build_patch(previous, c, o, 7, 1, 1, 0.25 * o.d());
+  ASSERT_TRUE(patch);
+  EXPECT_EQ(advect_patch(*patch, previous, next, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
             AdvectResult::CentreLost);
 }
 
