@@ -1,5 +1,6 @@
 #include "fluidtex/geometry/mesh.h"
 
+#include <limits>
 #include <numeric>
 
 #include <Eigen/Geometry>
@@ -76,6 +77,21 @@ int face_components(const FrameMesh& mesh, std::vector<int>& component_of_face) 
     component_of_face[f] = label[root];
   }
   return count;
+}
+
+bool slab_extent(const std::array<Vec2, 3>& t, int axis, double s0, double s1, double& lo, double& hi) {
+  const int other = 1 - axis;
+  lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const auto take = [&](double v) { lo = std::min(lo, v), hi = std::max(hi, v); };
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 &a = t[k], &b = t[(k + 1) % 3];
+    if (a[axis] >= s0 && a[axis] <= s1) take(a[other]);
+    for (const double s : {s0, s1}) {
+      if ((a[axis] < s && b[axis] > s) || (a[axis] > s && b[axis] < s))
+        take(a[other] + (s - a[axis]) / (b[axis] - a[axis]) * (b[other] - a[other]));
+    }
+  }
+  return lo <= hi;
 }
 
 }  // namespace fluidtex

@@ -113,25 +113,6 @@ Vec2 turn(const FlatChart& fc, int r, const Vec2& p) {
   }
 }
 
-/// y-range of a triangle within the slab x0 <= x <= x1; false if it misses.
-bool slab_range(const std::array<Vec2, 3>& t, double x0, double x1, double& lo, double& hi) {
-  bool any = false;
-  auto take = [&](double y) {
-    lo = any ? std::min(lo, y) : y;
-    hi = any ? std::max(hi, y) : y;
-    any = true;
-  };
-  for (int k = 0; k < 3; ++k) {
-    const Vec2& a = t[k];
-    const Vec2& b = t[(k + 1) % 3];
-    if (a.x() >= x0 && a.x() <= x1) take(a.y());
-    for (double xs : {x0, x1}) {
-      if ((a.x() - xs) * (b.x() - xs) < 0.0) take(a.y() + (xs - a.x()) / (b.x() - a.x()) * (b.y() - a.y()));
-    }
-  }
-  return any;
-}
-
 /// Per column of `cell` texels, the cells a chart occupies (its footprint
 /// grown by the gutter): [bottom, top); empty columns have bottom > top.
 struct Profile {
@@ -156,7 +137,8 @@ Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, in
     const int c1 = std::min(cols - 1, static_cast<int>(std::floor((xmax + gutter) / cell)));
     for (int c = c0; c <= c1; ++c) {
       double y0, y1;
-      if (!slab_range(t, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0, y1))
+      if (!slab_extent(t, 0, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0,
+                       y1))
         continue;
       lo[c] = std::min(lo[c], y0);
       hi[c] = std::max(hi[c], y1);

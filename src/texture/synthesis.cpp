@@ -36,24 +36,6 @@ bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out
   return true;
 }
 
-/// The x extent of triangle `p` within the horizontal band y0 ≤ y ≤ y1, in
-/// `lo`, `hi`; false when they do not meet. The triangle's part in the band
-/// is convex, with its corners among the triangle's corners in the band and
-/// the edges' crossings of the band's two lines.
-bool band_extent(const std::array<Vec2, 3>& p, double y0, double y1, double& lo, double& hi) {
-  lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  const auto take = [&](double x) { lo = std::min(lo, x), hi = std::max(hi, x); };
-  for (int k = 0; k < 3; ++k) {
-    const Vec2 &a = p[k], &b = p[(k + 1) % 3];
-    if (a.y() >= y0 && a.y() <= y1) take(a.x());
-    for (const double y : {y0, y1}) {
-      if ((a.y() < y && b.y() > y) || (a.y() > y && b.y() < y))
-        take(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
-    }
-  }
-  return lo <= hi;
-}
-
 /// Texel (x, y)'s centre in atlas coordinates.
 Vec2 texel_centre(int x, int y) { return Vec2(x + 0.5, y + 0.5); }
 
@@ -761,7 +743,7 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
   const double reach = (rim ? slack_px_ : 0.0) + kSpanMargin;
   for (int y = box.y0; y < box.y1; ++y) {
     double xa, xb;
-    if (!band_extent(px, y + 0.5 - reach, y + 0.5 + reach, xa, xb)) continue;
+    if (!slab_extent(px, 1, y + 0.5 - reach, y + 0.5 + reach, xa, xb)) continue;
     const int x0 = std::max(box.x0, static_cast<int>(std::ceil(xa - reach - 0.5)));
     const int x1 = std::min(box.x1, static_cast<int>(std::floor(xb + reach - 0.5)) + 1);
     for (int x = x0; x < x1; ++x) {

@@ -37,6 +37,14 @@ inline double triangle_area(const std::vector<Vec2>& points, const Tri& t) {
   return triangle_area(points[t[0]], points[t[1]], points[t[2]]);
 }
 
+/// The extent of the 2D triangle `t` within the slab s0 ≤ p[axis] ≤ s1,
+/// along the other axis (axis 0: a vertical slab, its y range; axis 1: a
+/// horizontal band, its x range), in `lo`, `hi`; false when they do not
+/// meet. The triangle's part in the slab is convex, with its corners among
+/// the triangle's corners in the slab and the edges' crossings of the
+/// slab's two lines.
+bool slab_extent(const std::array<Vec2, 3>& t, int axis, double s0, double s1, double& lo, double& hi);
+
 /// Area of the 3D triangle (a, b, c).
 inline double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
 
