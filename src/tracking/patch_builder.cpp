@@ -153,8 +153,13 @@ Matching match_patches(const Patch& old, const Patch& fresh, const SurfaceIndex&
     radial[v] = std::max(0.0, 1.0 - old.uvs[v].norm() / d);
   }
   std::vector<TrianglePrism> prisms;
+  std::vector<TriangleProjection> projections;
   prisms.reserve(old.triangles.size());
-  for (const Tri& t : old.triangles) prisms.emplace_back(old, t, options.mpt());
+  projections.reserve(old.triangles.size());
+  for (const Tri& t : old.triangles) {
+    prisms.emplace_back(old, t, options.mpt());
+    projections.emplace_back(old, t, options.mpt());
+  }
   Matching m;
   m.shown.assign(fresh.num_vertices(), 0.0f);
   for (std::size_t v = 0; v < fresh.num_vertices(); ++v) {
@@ -168,7 +173,7 @@ Matching match_patches(const Patch& old, const Patch& fresh, const SurfaceIndex&
       Vec3 l;
       double dist2 = 0.0;
       if (!prisms[k].may_cover(q)) continue;
-      if (!project_to_patch_triangle(old, t, q, n, options.mpt(), l, dist2) || !(dist2 < best)) continue;
+      if (!projections[k].project(q, n, l, dist2) || !(dist2 < best)) continue;
       best = dist2;
       uv = interpolate(old.uvs, t, l);
       m.shown[v] = static_cast<float>(l[0] * quality[t[0]] + l[1] * quality[t[1]] + l[2] * quality[t[2]]);
