@@ -21,6 +21,7 @@ namespace fluidtex {
 namespace {
 
 constexpr int kTile = 64;
+constexpr std::size_t kTileTexels = static_cast<std::size_t>(kTile) * kTile;
 /// Texels whose centres lie this far (in texels) outside a rasterised
 /// triangle are still tested: far more than the barycentric tolerance of
 /// the test itself at any triangle size an atlas holds.
@@ -399,12 +400,11 @@ struct ProjectedHits {
     Vec2 uv = Vec2::Zero();
     double w = 0.0, core = 0.0;
   };
-  static constexpr std::size_t kTexels = static_cast<std::size_t>(kTile) * kTile;
   int patch = -1;
-  std::vector<Hit> hit = std::vector<Hit>(kTexels);
+  std::vector<Hit> hit = std::vector<Hit>(kTileTexels);
   std::vector<std::size_t> texels;  // with a hit, in first-hit order
-  std::vector<Vec3> point = std::vector<Vec3>(kTexels), normal = std::vector<Vec3>(kTexels);
-  std::vector<char> point_ready = std::vector<char>(kTexels, 0);
+  std::vector<Vec3> point = std::vector<Vec3>(kTileTexels), normal = std::vector<Vec3>(kTileTexels);
+  std::vector<char> point_ready = std::vector<char>(kTileTexels, 0);
 
   /// Adds the current patch's hits to `acc` and clears them.
   void flush(const Contributor& contribute, Accumulator& acc) {
@@ -419,12 +419,11 @@ struct ProjectedHits {
 /// One atlas tile's texels and their sums: a thread's workspace, taken up by
 /// one tile after another (start()), so that no tile allocates.
 struct TileSums {
-  static constexpr std::size_t kTexels = static_cast<std::size_t>(kTile) * kTile;
   Rect2i rect;
-  Accumulator acc{kTexels};
+  Accumulator acc{kTileTexels};
   TexelSums sums;
   ProjectedHits projected;
-  explicit TileSums(int channels) : sums(kTexels, channels) {}
+  explicit TileSums(int channels) : sums(kTileTexels, channels) {}
   /// Empties the workspace (what the last tile wrote) for tile `r`.
   void start(const Rect2i& r) {
     for (const Contribution& k : acc.list) sums.clear(k.texel);
