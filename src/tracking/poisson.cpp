@@ -104,7 +104,7 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<SurfaceSample>& candidates, const SurfaceIndex& surface,
                                      const PoissonParams& params, double min_component_area,
-                                     const std::vector<char>* uncovered) {
+                                     const std::vector<char>* uncovered, double margin) {
   const PointIndex old_index([&] {
     std::vector<Vec3> centres;
     centres.reserve(existing.size());
@@ -112,24 +112,23 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
     return centres;
   }());
   PointIndex new_index;
-  const double reach = search_radius(params.radius, params);
   std::vector<SurfaceSample> kept;
   auto accept = [&](const SurfaceSample& c) {
     kept.push_back(c);
     new_index.add(c.point.position);
   };
-  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c) {
-    for (int i : index.within(c.point.position, reach)) {
-      if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, params.radius, params)) {
-        return true;
-      }
+  auto rejected_by = [&](const PointIndex& index, const std::vector<SurfaceSample>& disks, const SurfaceSample& c,
+                         double r) {
+    for (int i : index.within(c.point.position, search_radius(r, params))) {
+      if (rejects(disks[i].point.position, disks[i].normal, c.point.position, c.normal, r, params)) return true;
     }
     return false;
   };
+  const double birth_radius = (1.0 + margin) * params.radius;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const SurfaceSample& c = candidates[k];
-    if (rejected_by(new_index, kept, c)) continue;
-    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c)) continue;
+    if (rejected_by(new_index, kept, c, params.radius)) continue;
+    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c, birth_radius)) continue;
     accept(c);
   }
   // Safety net for tiny components the criterion could not reach.

@@ -256,7 +256,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     }
   }
   return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
-                   uncovered.empty() ? nullptr : &uncovered);
+                   uncovered.empty() ? nullptr : &uncovered, o.birth_margin);
 }
 
 void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,

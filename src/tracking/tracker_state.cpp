@@ -2,12 +2,12 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 6; version 5 had no distorted setting and no per-patch
-// texture offset, recovery or last recut frame, version 4 no kill-frames
-// setting and no per-patch count of frames too close, version 3 no
-// relax-frames setting): the magic, the
-// version, a checksum of the raw streams (farmhash; damage anywhere is
-// refused, not loaded), then three streams, each
+// Layout (version 7; version 6 had no birth-margin setting, version 5 no
+// distorted setting and no per-patch texture offset, recovery or last recut
+// frame, version 4 no kill-frames setting and no per-patch count of frames
+// too close, version 3 no relax-frames setting): the magic, the version, a
+// checksum of the raw streams (farmhash; damage anywhere is refused, not
+// loaded), then three streams, each
 // compressed with Blosc (byte shuffle + zstd) in chunks: the 8-byte fields
 // (doubles, 64-bit counts), the 4-byte ones (ints, floats) and the bytes.
 // Fields go to their stream in serialisation order, so the reader consumes
@@ -35,7 +35,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 6;
+constexpr std::uint32_t kVersion = 7;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};

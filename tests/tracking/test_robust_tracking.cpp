@@ -75,6 +75,7 @@ Survival track_sphere(const RigidMotion& m, bool paper_rules, int frames = 36) {
     settings.method.distortion_test = DistortionTest::Vertex;
     settings.method.relax_frames = 0;
     settings.method.kill_frames = 0;
+    settings.method.birth_margin = 0.0;
     settings.method.distorted = Distorted::Fade;
   }
   Tracker tracker(settings);
@@ -145,6 +146,7 @@ struct RealCut {
   double births_per_live = 0.0;  ///< mean over frames 2..
   double uncovered_max = 0.0;    ///< largest uncovered area share of a frame
   double kept = 0.0;             ///< share of the first frame's patches live and not fading out at the end
+  double crowding = 0.0;         ///< largest patch count per unit area over the first frame's
 };
 
 /// Tracks `frames` ("1-24") of a shared real cache; nullopt when it is absent.
@@ -159,11 +161,15 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
   Tracker tracker(settings);
   RealCut cut;
   std::set<std::uint32_t> first;
+  double first_density = 0.0;
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int f = sequence.frames()[i];
     const StepReport r = tracker.step(std::make_shared<const FrameMesh>(sequence.load(i)), f, 1.0 / in.fps);
     const PatchCoverage coverage(tracker.patches(), tracker.settings().method.mpt());
     cut.uncovered_max = std::max(cut.uncovered_max, uncovered_area_fraction(*tracker.surface(), coverage));
+    const double density = static_cast<double>(tracker.patches().size()) / tracker.surface()->area();
+    if (i == 0) first_density = density;
+    cut.crowding = std::max(cut.crowding, density / first_density);
     if (i == 0) {
       for (const Patch& p : tracker.patches()) first.insert(p.id);
       continue;
@@ -179,26 +185,32 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
 TEST(RealData, SloshKeepsItsPatchesAndStaysCovered) {
   const auto cut = track_real("slosh", "1-24");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Measured (frames 1-24): births 1.5 % of the live patches per frame, 92 %
+  // Measured (frames 1-24): births 0.8 % of the live patches per frame, 92 %
   // of the first frame's patches kept through the first half swing (the
-  // liquid really stretches there, up to D ≈ 2); with --distorted fade 2.0 %
+  // liquid really stretches there, up to D ≈ 2); --birth-margin 0: 1.5 %,
+  // 92 %; with --distorted fade 2.0 %
   // and 74 %; before plastic patches 3.3 % and 44 %; with the paper's rules
   // (per-vertex motion and test, Eq. 6): 7.9 % and 22 %.
   EXPECT_LE(cut->births_per_live, 0.02);
   EXPECT_GE(cut->kept, 0.85);
   EXPECT_EQ(cut->uncovered_max, 0.0);
+  // Patches per unit area, largest over the first frame's: 1.21 (margin 0:
+  // 1.41; drop 1.24 / 1.41, obstacle 1.26 / 1.46 in the tests below).
+  EXPECT_LE(cut->crowding, 1.32);
 }
 
 TEST(RealData, DropChurnStaysBounded) {
   const auto cut = track_real("drop", "1-16");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Measured (frames 1-16, through the impact): births 4.4 % per frame, 71 %
-  // of the first frame's patches kept (--distorted fade: 7.5 %, 62 %; before
+  // Measured (frames 1-16, through the impact): births 3.4 % per frame, 76 %
+  // of the first frame's patches kept (--birth-margin 0: 4.4 %, 71 %;
+  // --distorted fade: 7.5 %, 62 %; before
   // plastic patches 8.1 %; the paper's rules: 13 %), no bare surface (the
   // paper's rules leave 5.7e-5).
   EXPECT_LE(cut->births_per_live, 0.055);
   EXPECT_GE(cut->kept, 0.65);
   EXPECT_EQ(cut->uncovered_max, 0.0);
+  EXPECT_LE(cut->crowding, 1.32);
 }
 
 TEST(RealData, ObstacleSplashDropletsAreCovered) {
@@ -207,11 +219,13 @@ TEST(RealData, ObstacleSplashDropletsAreCovered) {
   // The dam break's sheet tears into droplets smaller than the disk (frames
   // 14, 19, 21); the plane test cuts their patches down to border triangles.
   // Measured: no bare surface (8-12 bare faces per such frame before the
-  // border tail and the refill), births 9.4 % of the live patches per frame
-  // and 85 % of the first frame's patches kept (--distorted fade: 18 %, 38 %).
+  // border tail and the refill), births 7.4 % of the live patches per frame
+  // and 91 % of the first frame's patches kept (--birth-margin 0: 9.4 %,
+  // 85 %; --distorted fade: 18 %, 38 %).
   EXPECT_EQ(cut->uncovered_max, 0.0);
   EXPECT_LE(cut->births_per_live, 0.12);
   EXPECT_GE(cut->kept, 0.75);
+  EXPECT_LE(cut->crowding, 1.35);
 }
 
 // --- Removal causes -------------------------------------------------------------
@@ -337,6 +351,50 @@ TEST(KillFrames, ACompressionTheLiquidUndoesRetiresNothing) {
   ASSERT_GT(wait_long.first, 0);
   EXPECT_GE(wait_long.first, paper_long.first + 4);
   EXPECT_LT(wait_long.too_close, paper_long.too_close);
+}
+
+/// Births and the live patch count (not fading out) at the first and last
+/// frame of a sheet of liquid that stretches along x for `stretch` frames
+/// (the mesh itself widens, 6 % per frame) and then shrinks back as long.
+struct StretchRun {
+  int births = 0, first = 0, last = 0;
+};
+StretchRun stretching_sheet(double birth_margin, int stretch) {
+  TrackerSettings s;
+  s.method.radius = 0.12;
+  s.method.birth_margin = birth_margin;
+  s.seed = 5;
+  Tracker t(s);
+  StretchRun run;
+  const double rate = 1.5, dt = 1.0 / 24;  // strain rate per second
+  double width = 1.0;
+  for (int f = 1; f <= 2 * stretch + 1; ++f) {
+    const double k = f <= stretch ? rate : -rate;  // this frame's velocity carries it to the next
+    FrameMesh mesh = test::flat_grid(24, 1.2, 0.0, -0.6, -0.6);
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      mesh.positions[v].x() *= width;
+      mesh.velocities[v] = Vec3(k * mesh.positions[v].x(), 0.0, 0.0);
+    }
+    const StepReport r = t.step(std::make_shared<FrameMesh>(std::move(mesh)), f, dt);
+    (f == 1 ? run.first : run.births) += r.created;
+    width *= std::exp(k * dt);
+  }
+  for (const Patch& p : t.patches()) run.last += !is_fading_out(p.state);
+  return run;
+}
+
+TEST(BirthMargin, AStretchTheLiquidUndoesLeavesFewerPatches) {
+  // The sheet widens 1.65-fold in 8 frames and narrows back. Seeding every
+  // gap wider than d as it opens (margin 0) and retiring only disks within
+  // 0.75 d that stay so for 8 frames leaves 1.8 times the first frame's
+  // patches on the same area (measured 70 -> 128, 58 births); with the
+  // margin, gaps must grow past 1.3 d first (70 -> 87, 17 births).
+  const StretchRun paper = stretching_sheet(0.0, 8);
+  const StretchRun margin = stretching_sheet(0.3, 8);
+  ASSERT_EQ(paper.first, margin.first);
+  EXPECT_GT(paper.last, 1.5 * paper.first);
+  EXPECT_LT(margin.births, paper.births / 2);
+  EXPECT_LT(margin.last, 1.35 * margin.first);
 }
 
 // --- Recut ---------------------------------------------------------------------

@@ -286,6 +286,44 @@ TEST(PoissonSampling, TwoCloseParallelPlanesAreBothCovered) {
   EXPECT_GT(std::max(plane.first, plane.second), 1.3 * d);
 }
 
+TEST(PoissonSampling, TheBirthMarginKeepsNewDisksFartherFromOldOnes) {
+  // Half a plane keeps its disks; the other half is a gap to fill. With the
+  // margin γ new disks keep (1 + γ)·d from the old ones, d from each other,
+  // and still leave no point farther than about (1 + γ)·d from a disk.
+  const double d = 0.1;
+  const FrameMesh mesh = test::flat_grid(60, 1.0);
+  const SurfaceIndex surface(mesh);
+  const PoissonParams params{d, 0.25 * d, 0.5, Criterion::Ellipsoid};
+  const auto candidates = surface_candidates(surface, d, 4);
+  std::vector<SurfaceSample> old;
+  for (const SurfaceSample& s : fill_gaps({}, candidates, surface, params, 0.0)) {
+    if (s.point.position.x() < 0.5) old.push_back(s);
+  }
+  auto nearest_old = [&](const std::vector<SurfaceSample>& fresh) {
+    double nearest = 1e300;
+    for (const SurfaceSample& f : fresh) {
+      for (const SurfaceSample& o : old) nearest = std::min(nearest, (f.point.position - o.point.position).norm());
+    }
+    return nearest;
+  };
+  const auto paper = fill_gaps(old, candidates, surface, params, 0.0);
+  ASSERT_GT(paper.size(), 10u);
+  EXPECT_GE(nearest_old(paper), d);
+  EXPECT_LT(nearest_old(paper), 1.3 * d);  // the margin below must change something
+  for (const double margin : {0.3, 0.6}) {
+    const auto fresh = fill_gaps(old, candidates, surface, params, 0.0, nullptr, margin);
+    ASSERT_GT(fresh.size(), 10u);
+    EXPECT_GE(nearest_old(fresh), (1.0 + margin) * d);
+    EXPECT_LT(fresh.size(), paper.size() + 2);
+    for (std::size_t i = 0; i < fresh.size(); ++i) {
+      for (std::size_t j = 0; j < i; ++j) EXPECT_GE((fresh[i].point.position - fresh[j].point.position).norm(), d);
+    }
+    std::vector<SurfaceSample> all = old;
+    all.insert(all.end(), fresh.begin(), fresh.end());
+    EXPECT_LT(coverage_gap(mesh, all), 1.1 * (1.0 + margin) * d);
+  }
+}
+
 TEST(PoissonSampling, SmallComponentsGetADisk) {
   FrameMesh mesh = test::flat_grid(30, 1.0);
   test::append(mesh, test::uv_sphere(6, 8, 0.02, Vec3(0.5, 0.5, 0.03)));  // a droplet just above

@@ -92,6 +92,7 @@ struct TrackingOptions {
   int relax_frames =
       8;  ///< plastic patches: stretch beyond the yield relaxes over this many frames (0: off, the paper)
   int kill_frames = 8;  ///< a disk too close to an older one fades out after this many frames in a row (0: at once)
+  double birth_margin = 0.15;  ///< γ: new disks keep (1 + γ)·d from the others after the first frame (0: the paper)
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
@@ -181,6 +182,12 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "(sloshing, passing waves) retires nothing (0: at once, the paper)",
                .bounds = at_least(0)},
     o.kill_frames);
+  f(OptionInfo{.name = "birth-margin",
+               .help = "gamma: after the first frame, a new disk is born only where no disk lies within (1 + gamma) x "
+                       "radius, a band against the kill distance so that gaps the liquid opens and closes again seed "
+                       "nothing and the patch count per area does not creep up (0: the paper)",
+               .bounds = between(0, 1)},
+    o.birth_margin);
   f(OptionInfo{.name = "criterion", .help = "Poisson rejection: ellipsoid (paper), sphere, plane"}, o.criterion);
   f(OptionInfo{.name = "fading",
                .help = "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its "

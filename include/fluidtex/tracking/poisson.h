@@ -69,10 +69,15 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 /// advected patch can lose vertices (mpt), shrink or be compressed, and then
 /// no longer cover the disk its centre stands for; this keeps the surface
 /// covered (Σw > 0 everywhere), which the blending needs.
+///
+/// `margin` (γ, `--birth-margin`): existing disks reject candidates at
+/// (1 + γ)·r instead of r (kept candidates still reject each other at r).
+/// Departure from the paper: births need a gap wider than the spacing a
+/// fresh distribution has, a hysteresis band against the kill distance.
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<SurfaceSample>& candidates, const SurfaceIndex& surface,
                                      const PoissonParams& params, double min_component_area,
-                                     const std::vector<char>* uncovered = nullptr);
+                                     const std::vector<char>* uncovered = nullptr, double margin = 0.0);
 
 /// Kill-distance flags (Sec. 5.4): visiting `disks` in order (callers pass
 /// them oldest first), a disk is flagged when an earlier, unflagged disk
