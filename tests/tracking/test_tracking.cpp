@@ -314,7 +314,6 @@ TEST(PoissonSampling, TheBirthMarginKeepsNewDisksFartherFromOldOnes) {
     const auto fresh = fill_gaps(old, candidates, surface, params, 0.0, nullptr, margin);
     ASSERT_GT(fresh.size(), 10u);
     EXPECT_GE(nearest_old(fresh), (1.0 + margin) * d);
-    EXPECT_LT(fresh.size(), paper.size() + 2);
     for (std::size_t i = 0; i < fresh.size(); ++i) {
       for (std::size_t j = 0; j < i; ++j) EXPECT_GE((fresh[i].point.position - fresh[j].point.position).norm(), d);
     }
