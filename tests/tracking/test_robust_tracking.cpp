@@ -146,7 +146,7 @@ struct RealCut {
   double births_per_live = 0.0;  ///< mean over frames 2..
   double uncovered_max = 0.0;    ///< largest uncovered area share of a frame
   double kept = 0.0;             ///< share of the first frame's patches live and not fading out at the end
-  double crowding = 0.0;         ///< largest patch count per unit area over the first frame's
+  double crowding = 1.0;         ///< largest patch count per unit area over the first frame's
 };
 
 /// Tracks `frames` ("1-24") of a shared real cache; nullopt when it is absent.
@@ -168,12 +168,12 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
     const PatchCoverage coverage(tracker.patches(), tracker.settings().method.mpt());
     cut.uncovered_max = std::max(cut.uncovered_max, uncovered_area_fraction(*tracker.surface(), coverage));
     const double density = static_cast<double>(tracker.patches().size()) / tracker.surface()->area();
-    if (i == 0) first_density = density;
-    cut.crowding = std::max(cut.crowding, density / first_density);
     if (i == 0) {
+      first_density = density;
       for (const Patch& p : tracker.patches()) first.insert(p.id);
       continue;
     }
+    cut.crowding = std::max(cut.crowding, density / first_density);
     cut.births_per_live += r.created / static_cast<double>(tracker.patches().size()) / (sequence.size() - 1);
   }
   int kept = 0;
