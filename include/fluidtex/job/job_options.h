@@ -161,7 +161,7 @@ struct JobOptions {
   /// is never seeded, even where no live patch covers the surface (the
   /// paper's plain dart throwing; docs/method.md).
   bool no_coverage_check = false;
-  Advection advection = Advection::Heun;           ///< --advection
+  Advection advection = Advection::Euler;          ///< --advection
   PatchMotion patch_motion = PatchMotion::Smooth;  ///< --patch-motion
   SynthesisJobOptions synthesis;
 
@@ -228,7 +228,10 @@ void JobOptions::for_each_option(Self& o, F&& f) {
                        "even where no patch covers the surface (the paper's plain dart throwing)",
                .group = paper},
     o.no_coverage_check);
-  f(OptionInfo{.name = "advection", .help = "Patch advection: heun (second order) or euler (x + v dt)", .group = paper},
+  f(OptionInfo{.name = "advection",
+               .help = "Patch advection: euler (x + v_f dt, the solver's own step) or heun (second order, for "
+                       "velocities sampled at the frame's instant)",
+               .group = paper},
     o.advection);
   f(OptionInfo{.name = "patch-motion",
                .help = "smooth: a patch moves by one smooth (cubic) map fitted to its advected vertices, so that "

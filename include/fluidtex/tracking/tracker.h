@@ -44,7 +44,7 @@ void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resol
 
 struct TrackerSettings {
   TrackingOptions method;  ///< Table 3/4 parameters (resolved on the first frame)
-  Advection advection = Advection::Heun;
+  Advection advection = Advection::Euler;
   PatchMotion motion = PatchMotion::Smooth;
   std::uint64_t seed = 1;
   double candidates_per_disk = 32.0;  ///< dart-throwing candidates per disk area π d²
