@@ -158,6 +158,30 @@ bool SurfaceIndex::on_boundary(const SurfacePoint& s, double tolerance) const {
   return false;
 }
 
+SurfacePoint SurfaceIndex::closest_rim_point(const Vec3& p, double radius) const {
+  SurfacePoint best;
+  double best2 = radius * radius;
+  const Vec3 reach = Vec3::Constant(radius);
+  for (int f : faces_in_box(p - reach, p + reach)) {
+    const Tri& t = mesh_->triangles[f];
+    for (int k = 0; k < 3; ++k) {
+      if (neighbors_[f][k] >= 0) continue;
+      const Vec3& a = mesh_->positions[t[k]];
+      const Vec3 ab = mesh_->positions[t[(k + 1) % 3]] - a;
+      const double len2 = ab.squaredNorm();
+      const double u = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      const double d2 = (p - (a + u * ab)).squaredNorm();
+      if (best.valid() ? !(d2 < best2) : d2 > best2) continue;  // the first of equals
+      Vec3 bary = Vec3::Zero();
+      bary[k] = 1.0 - u, bary[(k + 1) % 3] = u;
+      best = at(f, bary);
+      best.distance = std::sqrt(d2);
+      best2 = d2;
+    }
+  }
+  return best;
+}
+
 Vec3 SurfaceIndex::normal_at(const SurfacePoint& s) const {
   const Tri& t = mesh_->triangles[s.face];
   const Vec3 n = interpolate(vertex_normals_, t, s.bary);

@@ -645,6 +645,66 @@ TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowIsLost) {
             AdvectResult::CentreLost);
 }
 
+TEST(Rim, AnOutlineThatMovesWithTheLiquidKeepsItsRimAndAnInflowRimLetsGo) {
+  // An open sheet spreading along x at 6 % per frame, its velocity sampled
+  // at the frame's instant (k·x, as analytic scenes store it): Euler lags
+  // the moving rim by ½·k²x·dt² a frame. A patch on the rim keeps its rim
+  // vertices and its centre on the rim, frame after frame.
+  const double k = 1.5, dt = 1.0 / 24;
+  auto sheet = [&](double width) {
+    FrameMesh m = test::flat_grid(24, 1.2, 0.0, -0.6, -0.6);
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+      m.positions[v].x() *= width;
+      m.velocities[v] = Vec3(k * m.positions[v].x(), 0.0, 0.0);
+    }
+    return m;
+  };
+  TrackingOptions o = TrackingOptions{}.resolved(1.0);
+  o.radius = 0.15;
+  std::vector<FrameMesh> frames;
+  for (int f = 0; f < 7; ++f) frames.push_back(sheet(std::exp(k * dt * f)));
+  SurfaceIndex first(frames[0]);
+  SurfaceSample c;
+  c.point = first.closest_point(Vec3(0.6, 0.05, 0));
+  c.normal = first.normal_at(c.point);
+  std::optional<Patch> patch = build_patch(first, c, o, 7, 1, 1, 0.25 * o.d());
+  ASSERT_TRUE(patch);
+  int on_rim = 0;
+  for (int f = 1; f < 7; ++f) {
+    const SurfaceIndex previous(frames[f - 1]), next(frames[f]);
+    std::vector<char> was(patch->num_vertices());
+    for (std::size_t v = 0; v < was.size(); ++v) was[v] = previous.on_boundary(patch->projections[v]);
+    ASSERT_NE(advect_patch(*patch, previous, next, dt, o, Advection::Euler, PatchMotion::Smooth),
+              AdvectResult::CentreLost);
+    ASSERT_EQ(patch->num_vertices(), was.size());  // nothing lost past the rim
+    const double rim = 0.6 * std::exp(k * dt * f);
+    EXPECT_NEAR(patch->center.point.position.x(), rim, 1e-9) << f;
+    for (std::size_t v = 0; v < was.size(); ++v) {
+      if (!was[v] || std::abs(patch->positions[v].y()) > 0.59) continue;  // the corners are another matter
+      ++on_rim;
+      EXPECT_NEAR(patch->positions[v].x(), rim, 1e-9) << f;
+    }
+  }
+  EXPECT_GT(on_rim, 12);
+
+  // Liquid entering through the still rim x = 0: the rim stays, the
+  // liquid moves away from it, and so do the patch's rim vertices.
+  const Vec3 inflow(0.5, 0, 0);
+  const FrameMesh still = test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return inflow; });
+  const SurfaceIndex surface(still);
+  c.point = surface.closest_point(Vec3(0.0, 0.5, 0));
+  c.normal = surface.normal_at(c.point);
+  std::optional<Patch> entering = build_patch(surface, c, o, 7, 1, 1, 0.25 * o.d());
+  ASSERT_TRUE(entering);
+  const Patch before = *entering;
+  ASSERT_NE(advect_patch(*entering, surface, surface, dt, o, Advection::Euler, PatchMotion::Smooth),
+            AdvectResult::CentreLost);
+  ASSERT_EQ(entering->num_vertices(), before.num_vertices());
+  EXPECT_NEAR((entering->center.point.position - before.center.point.position - inflow * dt).norm(), 0.0, 1e-9);
+  for (std::size_t v = 0; v < before.num_vertices(); ++v)
+    EXPECT_NEAR((entering->positions[v] - before.positions[v] - inflow * dt).norm(), 0.0, 1e-9);
+}
+
 TEST(Recut, ACrushedPatchIsCutAgainNotReplaced) {
   // The liquid converges towards x = 0 for 16 frames (e⁻² of its width: a
   // Sorkine distortion of 7.4, beyond what relaxation takes out). The paper

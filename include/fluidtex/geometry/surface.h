@@ -68,6 +68,10 @@ class SurfaceIndex {
   /// open surface does, or within `tolerance` of one (edges and vertices of
   /// its own triangle).
   bool on_boundary(const SurfacePoint& s, double tolerance = 0.0) const;
+  /// The closest point to `p` on an open boundary edge (the rim of an open
+  /// surface) no farther than `radius`; invalid when there is none. Its
+  /// `distance` is the distance from `p`.
+  SurfacePoint closest_rim_point(const Vec3& p, double radius) const;
   int num_components() const { return num_components_; }
   const std::vector<double>& component_area() const { return component_area_; }
 

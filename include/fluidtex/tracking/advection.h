@@ -93,7 +93,8 @@ inline bool is_lost(AdvectResult r) { return r == AdvectResult::CentreLost || r 
 /// Advects `patch` from `previous` to `next`. A Damaged patch no longer
 /// covers its disk: the tracker fades it out as distorted so that the Poisson
 /// update replaces it (the paper: vertex removal "allows for the introduction
-/// of new patches").
+/// of new patches"). On an open surface, a vertex or centre on the rim that
+/// the rim carried along stays on it (docs/method.md, "open rims").
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                           const TrackingOptions& options, Advection scheme, PatchMotion motion = PatchMotion::Smooth);
 
