@@ -84,22 +84,26 @@ bool left_through_rim(const SurfacePoint& p, const SurfaceIndex& surface, double
   return p.distance > 0.1 * max_projection && surface.on_boundary(p);
 }
 
-/// Whether a vertex on the previous frame's rim (`from`), projected inside
-/// the next surface at `to`, belongs on the next frame's rim: the rim moved
-/// with the liquid (the outline of the 2D scenes as it spreads or contracts)
-/// when the vertex lands closer to the new rim than its old place lies. A rim
-/// the liquid enters through stays where it was, and the liquid moves away
-/// from it. Velocities sampled at the frame's instant lag an accelerating
-/// rim by ½·a·dt² a frame; without this the lag would accumulate and bare a
-/// sliver of faces along the rim, which the coverage net would fill with new
-/// disks every frame.
-bool stays_on_rim(const SurfacePoint& from, const SurfacePoint& to, const SurfaceIndex& previous,
-                  const SurfaceIndex& next, double max_projection) {
-  if (!previous.on_boundary(from) || next.on_boundary(to)) return false;
-  const SurfacePoint rim = next.closest_rim_point(to.position, max_projection);
-  if (!rim.valid()) return false;
+/// Where a vertex on the previous frame's rim (`from`), carried to `target`
+/// and projected inside the next surface at `to`, goes when it belongs on
+/// the next frame's rim: the rim moved with the liquid (the outline of the
+/// 2D scenes as it spreads or contracts) when the vertex lands closer to the
+/// new rim than its old place lies. A rim the liquid enters through stays
+/// where it was, and the liquid moves away from it. Velocities sampled at the
+/// frame's instant lag an accelerating rim by ½·a·dt² a frame; without this
+/// the lag would accumulate and bare a sliver of faces along the rim, which
+/// the coverage net would fill with new disks every frame. Returns the rim
+/// point, its distance measured from `target`; invalid when the vertex does
+/// not belong on the rim.
+SurfacePoint carried_rim_point(const SurfacePoint& from, const SurfacePoint& to, const Vec3& target,
+                               const SurfaceIndex& previous, const SurfaceIndex& next, double max_projection) {
+  if (!previous.on_boundary(from) || next.on_boundary(to)) return {};
+  SurfacePoint rim = next.closest_rim_point(to.position, max_projection);
+  if (!rim.valid()) return {};
   const SurfacePoint old_rim = next.closest_rim_point(from.position, rim.distance);
-  return !old_rim.valid() || old_rim.distance > rim.distance;
+  if (old_rim.valid() && !(old_rim.distance > rim.distance)) return {};
+  rim.distance = (rim.position - target).norm();
+  return rim;
 }
 
 }  // namespace
@@ -125,17 +129,12 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     to.distance = (to.position - target).norm();
     return to;
   };
-  // A point kept on the rim (stays_on_rim) moves onto it; its distance is
-  // still measured from where it was carried.
-  auto onto_rim = [&](const SurfacePoint& p, const Vec3& target) {
-    SurfacePoint rim = next.closest_rim_point(p.position, max_projection);
-    rim.distance = (rim.position - target).norm();
-    return rim;
-  };
   SurfacePoint centre = project(centre_target);
   if (!centre.valid()) return AdvectResult::CentreLost;
-  const bool centre_on_rim = stays_on_rim(patch.center.point, centre, previous, next, max_projection);
-  if (centre_on_rim) centre = onto_rim(centre, centre_target);
+  const SurfacePoint centre_rim =
+      carried_rim_point(patch.center.point, centre, centre_target, previous, next, max_projection);
+  const bool centre_on_rim = centre_rim.valid();
+  if (centre_on_rim) centre = centre_rim;
   // A centre that misses the surface is mostly a near miss (an overshoot of
   // a fast sheet, noisy velocities) where the patch still lies on the
   // liquid: with recut, the patch's vertices decide (below). One that left
@@ -159,8 +158,10 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     // chords, lands a hair inside or outside it, which would turn rim edges
     // into patch borders or remove their vertices.
     if (!raw.empty() && p.valid() && next.on_boundary(p, max_projection)) p = project(target = raw[v]);
-    const bool on_rim = p.valid() && stays_on_rim(patch.projections[v], p, previous, next, max_projection);
-    if (on_rim) p = onto_rim(p, target);
+    const SurfacePoint rim =
+        p.valid() ? carried_rim_point(patch.projections[v], p, target, previous, next, max_projection) : SurfacePoint{};
+    const bool on_rim = rim.valid();
+    if (on_rim) p = rim;
     if (!p.valid() || p.distance > max_projection || (!on_rim && left_through_rim(p, next, max_projection))) {
       keep[v] = 0;
       --kept;
