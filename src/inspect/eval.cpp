@@ -518,7 +518,7 @@ void patch_metrics(const Tracker& tracker, const JobOptions& job, const Exemplar
   const TrackingOptions& o = tracker.settings().method;
   const std::vector<Patch>& patches = tracker.patches();
   const PatchCoverage coverage(patches, o.mpt());
-  row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage));
+  row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage, tracker.coverage_spacing()));
   SynthesisOptions so = synthesis_options(o, job.synthesis);
   so.aov = true;
   const Atlas atlas = build_atlas(*tracker.surface(), job.synthesis.atlas);

@@ -225,6 +225,7 @@ struct Work {
   std::shared_ptr<const SurfaceIndex> surface;
   std::vector<Patch> patches;    // patches
   TrackingOptions resolved;      // patches
+  double coverage_spacing = 0;   // patches
   FlowMapFrame flow;             // flowmap
   Tracker::UnpackedState state;  // patches: the tracker's state, packed in texture(), written last
   std::string packed_state;
@@ -276,6 +277,7 @@ class PatchTexturing final : public Texturing {
     work.surface = tracker_.shared_surface();
     work.patches = tracker_.patches();
     work.resolved = tracker_.settings().method;
+    work.coverage_spacing = tracker_.coverage_spacing();
     if (write_state_) work.state = tracker_.unpacked_state();
   }
 
@@ -292,7 +294,7 @@ class PatchTexturing final : public Texturing {
     // Track only: coverage measured on the surface (area with Σw = 0).
     const ScopedStage stage(work.stats.seconds, "coverage");
     const PatchCoverage coverage(work.patches, work.resolved.mpt());
-    work.stats.uncovered_fraction = uncovered_area_fraction(*work.surface, coverage);
+    work.stats.uncovered_fraction = uncovered_area_fraction(*work.surface, coverage, work.coverage_spacing);
   }
 
   void finish(Work& work) const override {

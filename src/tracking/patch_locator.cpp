@@ -4,8 +4,10 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "fluidtex/geometry/point_index.h"
 
@@ -221,22 +223,62 @@ PatchCoverage::PatchCoverage(const std::vector<Patch>& patches, double tolerance
 
 namespace {
 
-/// Weight of `patch` at p on its nearest triangle among those `candidate`
-/// accepts (lowest index on a tie), 0 when p projects onto none.
+/// The nearest triangle of `patch` that p (normal `n`) projects onto among
+/// those `candidate` accepts (lowest index on a tie, as PatchLocator::locate);
+/// false when there is none.
 template <class Candidate>
-double nearest_weight(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance, Candidate&& candidate) {
+bool nearest_triangle(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance, Candidate&& candidate,
+                      int& nearest, Vec3& nearest_bary) {
   double best = std::numeric_limits<double>::infinity();
-  double weight = 0.0;
+  nearest = -1;
   for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
     if (!candidate(t)) continue;
-    const Tri& tri = patch.triangles[t];
     Vec3 bary;
     double dist2;
-    if (!project_to_patch_triangle(patch, tri, p, n, tolerance, bary, dist2) || !(dist2 < best)) continue;
+    if (!project_to_patch_triangle(patch, patch.triangles[t], p, n, tolerance, bary, dist2) || !(dist2 < best))
+      continue;
     best = dist2;
-    weight = interpolate(patch.weight, tri, bary);
+    nearest = static_cast<int>(t);
+    nearest_bary = bary;
   }
-  return weight;
+  return nearest >= 0;
+}
+
+/// Barycentric coordinates of the point of triangle (a, b, c) nearest to q,
+/// a point of its plane: q itself inside, else the nearest point of the
+/// nearest edge.
+Vec3 nearest_in_plane(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (den > 0.0) {
+    const double l1 = (d11 * d20 - d01 * d21) / den, l2 = (d00 * d21 - d01 * d20) / den;
+    if (l1 >= 0.0 && l2 >= 0.0 && l1 + l2 <= 1.0) return Vec3(1.0 - l1 - l2, l1, l2);
+  }
+  const std::array<Vec3, 3> corner{a, b, c};
+  Vec3 best_bary = Vec3(1.0, 0.0, 0.0);
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 &p0 = corner[k], &p1 = corner[(k + 1) % 3];
+    const double len2 = (p1 - p0).squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((q - p0).dot(p1 - p0) / len2, 0.0, 1.0) : 0.0;
+    const double dist2 = (p0 + t * (p1 - p0) - q).squaredNorm();
+    if (!(dist2 < best)) continue;
+    best = dist2;
+    best_bary = Vec3::Zero();
+    best_bary[k] = 1.0 - t;
+    best_bary[(k + 1) % 3] = t;
+  }
+  return best_bary;
+}
+
+/// Weight of `patch` at p on its nearest triangle, 0 when p projects onto none.
+template <class Candidate>
+double nearest_weight(const Patch& patch, const Vec3& p, const Vec3& n, double tolerance, Candidate&& candidate) {
+  int t;
+  Vec3 bary;
+  if (!nearest_triangle(patch, p, n, tolerance, candidate, t, bary)) return 0.0;
+  return interpolate(patch.weight, patch.triangles[t], bary);
 }
 
 }  // namespace
@@ -247,48 +289,258 @@ bool patch_covers(const Patch& patch, const Vec3& p, const Vec3& n, double toler
 
 PatchCoverage::~PatchCoverage() = default;
 
-bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
+bool PatchCoverage::covers_with(std::size_t k, const Vec3& p, const Vec3& n) const {
   const Bounds& B = *bounds_;
-  if (B.patch.empty()) return false;
-  std::vector<std::pair<double, int>> near;
-  for (int k : B.index->within(p, B.max_radius)) {
-    const double d2 = (B.centre[k] - p).squaredNorm();
-    if (d2 <= B.radius[k] * B.radius[k]) near.emplace_back(d2, k);
+  // As locate(): the patch's nearest triangle (lowest index on a tie) decides.
+  // B.tri lists every triangle of the patch in order, so triangle t is entry
+  // tri_base[k] + t.
+  const std::size_t base = B.tri_base[k];
+  auto near_p = [&](std::size_t t) {
+    return (B.tri_centre[base + t] - p).squaredNorm() <= B.tri_reach[base + t] * B.tri_reach[base + t];
+  };
+  return nearest_weight((*patches_)[B.patch[k]], p, n, tolerance_, near_p) > 0.0;
+}
+
+std::vector<std::size_t> PatchCoverage::near(const Vec3& c, double r) const {
+  const Bounds& B = *bounds_;
+  std::vector<std::pair<double, std::size_t>> found;
+  for (int k : B.index->within(c, B.max_radius + r)) {
+    const double d2 = (B.centre[k] - c).squaredNorm();
+    if (d2 <= (B.radius[k] + r) * (B.radius[k] + r)) found.emplace_back(d2, static_cast<std::size_t>(k));
   }
-  std::sort(near.begin(), near.end());
-  for (const auto& [d2, k] : near) {
-    // As locate(): the patch's nearest triangle (lowest index on a tie) decides.
-    // B.tri lists every triangle of the patch in order, so triangle t is entry
-    // tri_base[k] + t.
-    const std::size_t base = B.tri_base[k];
-    auto near_p = [&](std::size_t t) {
-      return (B.tri_centre[base + t] - p).squaredNorm() <= B.tri_reach[base + t] * B.tri_reach[base + t];
-    };
-    if (nearest_weight((*patches_)[B.patch[k]], p, n, tolerance_, near_p) > 0.0) return true;
+  std::sort(found.begin(), found.end());
+  std::vector<std::size_t> out;
+  out.reserve(found.size());
+  for (const auto& f : found) out.push_back(f.second);
+  return out;
+}
+
+bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
+  if (bounds_->patch.empty()) return false;
+  for (std::size_t k : near(p, 0.0)) {
+    if (covers_with(k, p, n)) return true;
   }
   return false;
 }
 
-std::vector<char> uncovered_faces(const SurfaceIndex& surface, const PatchCoverage& coverage) {
-  const std::size_t nf = surface.mesh().triangles.size();
-  std::vector<char> bare(nf, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t f = r.begin(); f != r.end(); ++f) {
-      const SurfacePoint s = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
-      bare[f] = !coverage.covers(s.position, surface.normal_at(s));
+std::ptrdiff_t PatchCoverage::first_uncovered(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                              std::size_t from) const {
+  const Bounds& B = *bounds_;
+  if (from >= points.size()) return -1;
+  if (B.patch.empty()) return static_cast<std::ptrdiff_t>(from);
+  // The patches whose sphere reaches the points' bounding sphere, nearest
+  // first; each point tries the patch that covered the point before it first.
+  Vec3 c = Vec3::Zero();
+  for (std::size_t i = from; i < points.size(); ++i) c += points[i];
+  c /= static_cast<double>(points.size() - from);
+  double r = 0.0;
+  for (std::size_t i = from; i < points.size(); ++i) r = std::max(r, (points[i] - c).norm());
+  const std::vector<std::size_t> candidates = near(c, r);
+  // Per candidate, its triangles whose sphere reaches the ball (c, r), the
+  // only ones a point can project onto, with their projections (made when
+  // the candidate is first tried, once for all the points).
+  struct Near {
+    bool listed = false;
+    std::vector<int> tri;
+    std::vector<TriangleProjection> projection;
+  };
+  std::vector<Near> subsets(candidates.size());
+  // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
+  auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
+    const std::size_t k = candidates[j];
+    if ((B.centre[k] - p).squaredNorm() > B.radius[k] * B.radius[k]) return false;
+    const Patch& patch = (*patches_)[B.patch[k]];
+    const std::size_t base = B.tri_base[k];
+    Near& sub = subsets[j];
+    if (!sub.listed) {
+      sub.listed = true;
+      for (std::size_t t = 0; t < B.tri_base[k + 1] - base; ++t) {
+        const double reach = B.tri_reach[base + t] + r;
+        if ((B.tri_centre[base + t] - c).squaredNorm() > reach * reach) continue;
+        sub.tri.push_back(static_cast<int>(t));
+        sub.projection.emplace_back(patch, patch.triangles[t], tolerance_);
+      }
     }
-  });
-  return bare;
+    double best = std::numeric_limits<double>::infinity();
+    int nearest = -1;
+    Vec3 nearest_bary;
+    for (std::size_t e = 0; e < sub.tri.size(); ++e) {
+      const std::size_t t = static_cast<std::size_t>(sub.tri[e]);
+      if ((B.tri_centre[base + t] - p).squaredNorm() > B.tri_reach[base + t] * B.tri_reach[base + t]) continue;
+      Vec3 bary;
+      double dist2;
+      if (!sub.projection[e].project(p, n, bary, dist2) || !(dist2 < best)) continue;
+      best = dist2;
+      nearest = static_cast<int>(t);
+      nearest_bary = bary;
+    }
+    return nearest >= 0 && interpolate(patch.weight, patch.triangles[nearest], nearest_bary) > 0.0;
+  };
+  std::size_t last = candidates.size();
+  for (std::size_t i = from; i < points.size(); ++i) {
+    const Vec3& p = points[i];
+    bool covered = last < candidates.size() && covers(last, p, normals[i]);
+    for (std::size_t j = 0; j < candidates.size() && !covered; ++j) {
+      if (j == last || !covers(j, p, normals[i])) continue;
+      covered = true;
+      last = j;
+    }
+    if (!covered) return static_cast<std::ptrdiff_t>(i);
+  }
+  return -1;
 }
 
-double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage) {
-  const std::vector<char> uncovered = uncovered_faces(surface, coverage);
-  double total = 0.0, bare = 0.0;  // summed in face order: deterministic
-  for (std::size_t f = 0; f < uncovered.size(); ++f) {
-    total += surface.face_areas()[f];
-    if (uncovered[f]) bare += surface.face_areas()[f];
+bool PatchCoverage::nearest(const Vec3& p, const Vec3& n, double reach, PatchHit& hit) const {
+  const Bounds& B = *bounds_;
+  double best = reach * reach;
+  bool found = false;
+  for (std::size_t k : near(p, reach)) {
+    const Patch& patch = (*patches_)[B.patch[k]];
+    const std::size_t base = B.tri_base[k];
+    for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+      const double r = B.tri_reach[base + t] + reach;
+      if ((B.tri_centre[base + t] - p).squaredNorm() > r * r) continue;
+      const Tri& tri = patch.triangles[t];
+      const Vec3 &a = patch.positions[tri[0]], &b = patch.positions[tri[1]], &c = patch.positions[tri[2]];
+      const Vec3 tn = (b - a).cross(c - a);
+      if (!(tn.dot(n) > 0.0)) continue;  // the other side of a sheet, a fold, degenerate
+      const Vec3 bary = nearest_in_plane(p - tn * (tn.dot(p - a) / tn.squaredNorm()), a, b, c);
+      const double dist2 = (interpolate(bary, a, b, c) - p).squaredNorm();
+      if (!(dist2 < best)) continue;  // ties: the patch found first, its lower triangle
+      best = dist2;
+      found = true;
+      hit.patch = B.patch[k];
+      hit.tri = static_cast<int>(t);
+      hit.bary = bary;
+    }
   }
-  return total > 0.0 ? bare / total : 0.0;
+  if (!found) return false;
+  const Patch& patch = (*patches_)[hit.patch];
+  const Tri& tri = patch.triangles[hit.tri];
+  hit.uv = interpolate(patch.uvs, tri, hit.bary);
+  hit.weight = interpolate(patch.weight, tri, hit.bary);
+  return true;
+}
+
+void PatchCoverage::locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const {
+  const Bounds& B = *bounds_;
+  hits.clear();
+  if (B.patch.empty()) return;
+  for (std::size_t k : near(p, 0.0)) {
+    const std::size_t base = B.tri_base[k];
+    auto near_p = [&](std::size_t t) {
+      return (B.tri_centre[base + t] - p).squaredNorm() <= B.tri_reach[base + t] * B.tri_reach[base + t];
+    };
+    const Patch& patch = (*patches_)[B.patch[k]];
+    PatchHit hit;
+    if (!nearest_triangle(patch, p, n, tolerance_, near_p, hit.tri, hit.bary)) continue;
+    const Tri& tri = patch.triangles[hit.tri];
+    hit.patch = B.patch[k];
+    hit.uv = interpolate(patch.uvs, tri, hit.bary);
+    hit.weight = interpolate(patch.weight, tri, hit.bary);
+    hits.push_back(hit);
+  }
+  std::sort(hits.begin(), hits.end(), [](const PatchHit& x, const PatchHit& y) { return x.patch < y.patch; });
+}
+
+FaceSamples face_samples(const SurfaceIndex& surface, double spacing) {
+  const FrameMesh& mesh = surface.mesh();
+  const std::size_t nf = mesh.triangles.size();
+  FaceSamples out;
+  out.count.resize(nf);
+  out.start.assign(nf + 1, 0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Tri& t = mesh.triangles[f];
+    double longest = 0.0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).norm());
+    // Bounded so that a degenerate spacing or a huge face cannot exhaust memory.
+    const double n = spacing > 0.0 ? std::ceil(longest / spacing) : 1.0;
+    out.count[f] = static_cast<int>(std::clamp(std::isfinite(n) ? n : 1.0, 1.0, 64.0));
+    out.start[f + 1] = out.start[f] + static_cast<std::size_t>(out.count[f]) * out.count[f];
+  }
+  out.bary.reserve(out.start.back());
+  for (std::size_t f = 0; f < nf; ++f) {
+    const int n = out.count[f];
+    // Sub-triangle (i, j) upright: corners (i, j), (i+1, j), (i, j+1) in
+    // steps of 1/n along the second and third barycentric; inverted:
+    // (i+1, j), (i+1, j+1), (i, j+1).
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; i + j < n; ++j) {
+        const double l1 = (i + 1.0 / 3.0) / n, l2 = (j + 1.0 / 3.0) / n;
+        out.bary.emplace_back(1.0 - l1 - l2, l1, l2);
+        if (i + j + 1 < n) {
+          const double m1 = (i + 2.0 / 3.0) / n, m2 = (j + 2.0 / 3.0) / n;
+          out.bary.emplace_back(1.0 - m1 - m2, m1, m2);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, const PatchCoverage& coverage,
+                     const std::vector<int>* faces) {
+  std::vector<int> all;
+  if (!faces) {
+    all.resize(surface.mesh().triangles.size());
+    std::iota(all.begin(), all.end(), 0);
+    faces = &all;
+  }
+  // Per tested face, its first bare sample (−1: none).
+  std::vector<std::ptrdiff_t> first(faces->size(), -1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces->size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<Vec3> points, normals;
+    for (std::size_t k = r.begin(); k != r.end(); ++k) {
+      const int f = (*faces)[k];
+      points.clear(), normals.clear();
+      for (std::size_t s = samples.start[f]; s < samples.start[f + 1]; ++s) {
+        const SurfacePoint p = surface.at(f, samples.bary[s]);
+        points.push_back(p.position);
+        normals.push_back(surface.normal_at(p));
+      }
+      const std::ptrdiff_t bare = coverage.first_uncovered(points, normals);
+      if (bare >= 0) first[k] = static_cast<std::ptrdiff_t>(samples.start[f]) + bare;
+    }
+  });
+  BareFaces out;
+  for (std::size_t k = 0; k < faces->size(); ++k) {
+    if (first[k] < 0) continue;
+    const int f = (*faces)[k];
+    SurfaceSample sample;
+    sample.point = surface.at(f, samples.bary[static_cast<std::size_t>(first[k])]);
+    sample.normal = surface.normal_at(sample.point);
+    out.face.push_back(f);
+    out.point.push_back(sample);
+  }
+  return out;
+}
+
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage, double spacing) {
+  const FaceSamples samples = face_samples(surface, spacing);
+  const std::size_t nf = surface.mesh().triangles.size();
+  std::vector<int> bare(nf, 0);  // per face: bare samples
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<Vec3> points, normals;
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      points.clear(), normals.clear();
+      for (std::size_t s = samples.start[f]; s < samples.start[f + 1]; ++s) {
+        const SurfacePoint p = surface.at(static_cast<int>(f), samples.bary[s]);
+        points.push_back(p.position);
+        normals.push_back(surface.normal_at(p));
+      }
+      for (std::ptrdiff_t i = coverage.first_uncovered(points, normals); i >= 0;
+           i = coverage.first_uncovered(points, normals, static_cast<std::size_t>(i) + 1))
+        ++bare[f];
+    }
+  });
+  double total = 0.0, uncovered = 0.0;  // summed in face order: deterministic
+  for (std::size_t f = 0; f < nf; ++f) {
+    const double area = surface.face_areas()[f];
+    total += area;
+    uncovered += area * bare[f] / static_cast<double>(samples.start[f + 1] - samples.start[f]);
+  }
+  return total > 0.0 ? uncovered / total : 0.0;
 }
 
 }  // namespace fluidtex

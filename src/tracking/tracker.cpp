@@ -98,8 +98,12 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     const std::vector<AdvectResult> advected = advect(*surface, dt, report);  // 1
     retire_distorted(*surface, advected, frame, report);                      // 2
   }
+  // Coverage is tested at points about a patch edge apart (the resolution
+  // of the patch meshes), so that a face covered at its centroid cannot hide
+  // a bare sliver.
+  const FaceSamples samples = face_samples(*surface, coverage_spacing());
   std::vector<int> bare_faces;
-  const std::vector<SurfaceSample> fresh = poisson_update(*surface, frame, report, bare_faces);  // 3
+  const std::vector<SurfaceSample> fresh = poisson_update(*surface, samples, frame, report, bare_faces);  // 3
   add_patches(*surface, fresh, frame, report);
   fade(report);   // 4
   weigh(report);  // 5
@@ -108,7 +112,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
       bare_faces.resize(surface->mesh().triangles.size());
       std::iota(bare_faces.begin(), bare_faces.end(), 0);
     }
-    refill_bare_faces(*surface, std::move(bare_faces), frame, report);  // 6
+    refill_bare_faces(*surface, samples, std::move(bare_faces), frame, report);  // 6
   }
 
   std::sort(report.retired.begin(), report.retired.end(),
@@ -191,8 +195,8 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   patches_ = std::move(kept);
 }
 
-std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, int frame, StepReport& report,
-                                                   std::vector<int>& bare_faces) {
+std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
+                                                   StepReport& report, std::vector<int>& bare_faces) {
   const ScopedStage stage(report.seconds, "poisson");
   const TrackingOptions& o = settings_.method;
   const PoissonParams params = poisson_params(o);
@@ -242,18 +246,13 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     const PatchCoverage coverage(patches_, o.mpt(), &live_mask);
     uncovered = uncovered_samples(candidates, coverage);
     // Random candidates miss thin strips (the fillet where a liquid surface
-    // meets a wall, narrower than their spacing): the centroid of every face
-    // left bare is a candidate too, after the others, in face order.
-    const std::vector<char> bare = uncovered_faces(surface, coverage);
-    for (std::size_t f = 0; f < bare.size(); ++f) {
-      if (!bare[f]) continue;
-      bare_faces.push_back(static_cast<int>(f));
-      SurfaceSample centroid;
-      centroid.point = surface.at(static_cast<int>(f), Vec3::Constant(1.0 / 3.0));
-      centroid.normal = surface.normal_at(centroid.point);
-      candidates.push_back(centroid);
-      uncovered.push_back(1);
-    }
+    // meets a wall, narrower than their spacing): the first bare sample of
+    // every face left bare is a candidate too, after the others, in face
+    // order.
+    const BareFaces bare = fluidtex::bare_faces(surface, samples, coverage);
+    bare_faces = bare.face;
+    candidates.insert(candidates.end(), bare.point.begin(), bare.point.end());
+    uncovered.resize(candidates.size(), 1);
   }
   return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
                    uncovered.empty() ? nullptr : &uncovered, o.birth_margin);
@@ -288,24 +287,16 @@ void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<Surfa
   }
 }
 
-void Tracker::refill_bare_faces(const SurfaceIndex& surface, std::vector<int> faces, int frame, StepReport& report) {
+void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<int> faces,
+                                int frame, StepReport& report) {
   const ScopedStage stage(report.seconds, "refill");
   const TrackingOptions& o = settings_.method;
   for (int round = 0; round < kRefillRounds && !faces.empty(); ++round) {
     const PatchCoverage coverage(patches_, o.mpt());
-    std::vector<SurfaceSample> centroids(faces.size());
-    std::vector<char> bare(faces.size(), 0);
-    parallel_each(faces.size(), [&](std::size_t k) {
-      centroids[k].point = surface.at(faces[k], Vec3::Constant(1.0 / 3.0));
-      centroids[k].normal = surface.normal_at(centroids[k].point);
-      bare[k] = !coverage.covers(centroids[k].point.position, centroids[k].normal);
-    });
-    std::vector<int> still;
-    std::vector<SurfaceSample> candidates;
-    for (std::size_t k = 0; k < faces.size(); ++k) {
-      if (bare[k]) still.push_back(faces[k]), candidates.push_back(centroids[k]);
-    }
-    if (still.empty()) return;
+    BareFaces bare = fluidtex::bare_faces(surface, samples, coverage, &faces);
+    if (bare.face.empty()) return;
+    const std::vector<SurfaceSample>& candidates = bare.point;
+    std::vector<int> still = std::move(bare.face);
     // Greedy in face order, the Poisson criterion among themselves only.
     const std::vector<SurfaceSample> fresh = fill_gaps({}, candidates, surface, poisson_params(o), 0.0);
     const std::size_t first = patches_.size();

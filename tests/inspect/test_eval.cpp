@@ -36,7 +36,7 @@ TEST(Eval, CoverageIsOneWithoutPatches) {
   const FrameMesh grid = test::flat_grid(6);
   const SurfaceIndex surface(grid);
   const std::vector<Patch> none;
-  EXPECT_DOUBLE_EQ(uncovered_area_fraction(surface, PatchCoverage(none, 0.01)), 1.0);
+  EXPECT_DOUBLE_EQ(uncovered_area_fraction(surface, PatchCoverage(none, 0.01), 0.05), 1.0);
 }
 
 TEST(Eval, WarpingErrorIsZeroForAnAdvectedTextureAndLargeForARandomOne) {

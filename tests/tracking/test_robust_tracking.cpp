@@ -166,7 +166,8 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
     const int f = sequence.frames()[i];
     const StepReport r = tracker.step(std::make_shared<const FrameMesh>(sequence.load(i)), f, 1.0 / in.fps);
     const PatchCoverage coverage(tracker.patches(), tracker.settings().method.mpt());
-    cut.uncovered_max = std::max(cut.uncovered_max, uncovered_area_fraction(*tracker.surface(), coverage));
+    cut.uncovered_max =
+        std::max(cut.uncovered_max, uncovered_area_fraction(*tracker.surface(), coverage, tracker.coverage_spacing()));
     const double density = static_cast<double>(tracker.patches().size()) / tracker.surface()->area();
     if (i == 0) {
       first_density = density;
@@ -330,7 +331,8 @@ CloseRun converging_plane(int kill_frames, int converge, int frames, double rate
       if (!run.first) run.first = f;
     }
     const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
-    run.uncovered_max = std::max(run.uncovered_max, uncovered_area_fraction(*t.surface(), coverage));
+    run.uncovered_max =
+        std::max(run.uncovered_max, uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()));
   }
   return run;
 }

@@ -496,7 +496,7 @@ TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
         if (p.state == DiskState::FadingIn) ASSERT_LT(p.kt, 1.0);
       }
       const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
-      EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage), 1e-3) << "frame " << f;
+      EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()), 1e-3) << "frame " << f;
     }
     if (std::string(scene) == "rotation") {
       EXPECT_EQ(removed, 0);
@@ -524,7 +524,26 @@ TEST(Tracker, DropletsSmallerThanTheDiskAreCovered) {
   for (int f = 1; f <= 3; ++f) {
     t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);
     const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
-    EXPECT_EQ(uncovered_area_fraction(*t.surface(), coverage), 0.0) << "frame " << f;
+    EXPECT_EQ(uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()), 0.0) << "frame " << f;
+  }
+}
+
+/// Faces several disks wide (a coarse cache, or a wall of the tank meshed
+/// with a few large triangles): coverage is tested at points a patch edge
+/// apart, so no bare sliver hides inside a face whose centre is covered. At
+/// half that spacing, gaps narrower than the samples may show (synthesis
+/// gives them a patch's margin), a tiny share of the area.
+TEST(Tracker, CoarseFacesAreCoveredInside) {
+  const FrameMesh mesh =
+      test::flat_grid(3, 3.0, 0.0, 0.0, 0.0, [](const Vec3& p) { return Vec3(0.3 * p.y(), 0.0, 0.0); });
+  TrackerSettings settings;
+  settings.method.radius = 0.25;
+  Tracker t(settings);
+  for (int f = 1; f <= 4; ++f) {
+    t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);
+    const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
+    EXPECT_EQ(uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()), 0.0) << "frame " << f;
+    EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage, 0.5 * t.coverage_spacing()), 2e-4) << "frame " << f;
   }
 }
 
@@ -602,9 +621,10 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   const PatchLocator locator(t.patches(), tol, &half);
   const PatchCoverage coverage(t.patches(), tol, &half);
   const SurfaceIndex& surface = *t.surface();
-  std::vector<PatchHit> hits;
+  std::vector<PatchHit> hits, found;
   int covered = 0, bare = 0;
   for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {
+    std::vector<Vec3> points, normals;
     for (const Vec3& b :
          {Vec3(Vec3::Constant(1.0 / 3.0)), Vec3(0.8, 0.1, 0.1), Vec3(0.05, 0.05, 0.9), Vec3(0.5, 0.5, 0.0)}) {
       const SurfacePoint s = surface.at(static_cast<int>(f), b);
@@ -613,6 +633,24 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
       const bool expected = std::any_of(hits.begin(), hits.end(), [](const PatchHit& h) { return h.weight > 0.0; });
       ASSERT_EQ(coverage.covers(s.position, n), expected) << "face " << f;
       (expected ? covered : bare)++;
+      // The same hits without a triangle tree.
+      coverage.locate(s.position, n, found);
+      ASSERT_EQ(found.size(), hits.size()) << "face " << f;
+      for (std::size_t h = 0; h < hits.size(); ++h) {
+        ASSERT_EQ(found[h].patch, hits[h].patch) << "face " << f;
+        ASSERT_EQ(found[h].tri, hits[h].tri) << "face " << f;
+        ASSERT_EQ(found[h].bary, hits[h].bary) << "face " << f;
+        ASSERT_EQ(found[h].weight, hits[h].weight) << "face " << f;
+      }
+      points.push_back(s.position);
+      normals.push_back(n);
+    }
+    // One face's points at once: the first bare one, as covers() one by one.
+    for (std::size_t from = 0; from <= points.size(); ++from) {
+      std::ptrdiff_t expected = -1;
+      for (std::size_t i = from; i < points.size() && expected < 0; ++i)
+        if (!coverage.covers(points[i], normals[i])) expected = static_cast<std::ptrdiff_t>(i);
+      ASSERT_EQ(coverage.first_uncovered(points, normals, from), expected) << "face " << f << " from " << from;
     }
   }
   EXPECT_GT(covered, 1000);
@@ -620,6 +658,59 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   // With no patch nothing is covered.
   const std::vector<Patch> none;
   EXPECT_FALSE(PatchCoverage(none, tol).covers(Vec3::Zero(), Vec3::UnitZ()));
+  EXPECT_EQ(PatchCoverage(none, tol).first_uncovered({Vec3::Zero()}, {Vec3::UnitZ()}), 0);
+}
+
+TEST(PatchCoverage, NearestFindsTheClosestFacingPatchPoint) {
+  // One patch: the unit square at z = 0, facing +z, split in two triangles.
+  std::vector<Patch> patches(1);
+  Patch& p = patches[0];
+  p.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  p.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  p.weight = {1.0, 1.0, 1.0, 1.0};
+  p.triangles = {Tri{0, 1, 2}, Tri{0, 2, 3}};
+  const PatchCoverage coverage(patches, 0.1);
+  PatchHit hit;
+  // Beside the square, in its plane: the nearest point of its edge.
+  ASSERT_TRUE(coverage.nearest(Vec3(1.05, 0.5, 0.0), Vec3::UnitZ(), 0.1, hit));
+  EXPECT_EQ(hit.patch, 0);
+  EXPECT_NEAR(hit.uv.x(), 1.0, 1e-12);
+  EXPECT_NEAR(hit.uv.y(), 0.5, 1e-12);
+  // Out of reach, or seen from the back: nothing.
+  EXPECT_FALSE(coverage.nearest(Vec3(1.2, 0.5, 0.0), Vec3::UnitZ(), 0.1, hit));
+  EXPECT_FALSE(coverage.nearest(Vec3(1.05, 0.5, 0.0), -Vec3::UnitZ(), 0.1, hit));
+  // The in-plane gap is what locate() does not reach.
+  std::vector<PatchHit> hits;
+  coverage.locate(Vec3(1.05, 0.5, 0.0), Vec3::UnitZ(), hits);
+  EXPECT_TRUE(hits.empty());
+}
+
+TEST(FaceSamples, SubdivideEachFaceDownToTheSpacing) {
+  // Two faces: a unit right triangle and one a tenth its size.
+  FrameMesh mesh;
+  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(2, 0, 0), Vec3(2.1, 0, 0), Vec3(2, 0.1, 0)};
+  mesh.velocities.assign(mesh.positions.size(), Vec3::Zero());
+  mesh.triangles = {Tri{0, 1, 2}, Tri{3, 4, 5}};
+  const SurfaceIndex surface(mesh);
+  const FaceSamples s = face_samples(surface, 0.25);
+  // Longest edge √2 over 0.25: 6 steps, 36 samples; the small face: its centroid.
+  ASSERT_EQ(s.count, (std::vector<int>{6, 1}));
+  ASSERT_EQ(s.start, (std::vector<std::size_t>{0, 36, 37}));
+  Vec3 mean = Vec3::Zero();
+  std::set<std::pair<long, long>> distinct;
+  for (std::size_t i = 0; i < 36; ++i) {
+    const Vec3& b = s.bary[i];
+    EXPECT_NEAR(b.sum(), 1.0, 1e-12);
+    EXPECT_GT(b.minCoeff(), 0.0);  // strictly inside the face
+    mean += b;
+    distinct.emplace(std::lround(b.y() * 1e9), std::lround(b.z() * 1e9));
+  }
+  // Sub-triangle centroids of an even subdivision: distinct, and their mean is the face's centroid.
+  EXPECT_EQ(distinct.size(), 36u);
+  EXPECT_TRUE(mean.isApprox(Vec3::Constant(12.0), 1e-12));
+  EXPECT_TRUE(s.bary[36].isApprox(Vec3::Constant(1.0 / 3.0), 1e-12));
+  // No spacing: the centroids alone.
+  EXPECT_EQ(face_samples(surface, 0.0).count, (std::vector<int>{1, 1}));
 }
 
 // TrianglePrism::may_cover is a pre-test: it may pass points the full

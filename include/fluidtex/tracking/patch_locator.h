@@ -134,21 +134,58 @@ class PatchCoverage {
   PatchCoverage(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include = nullptr);
   ~PatchCoverage();
   bool covers(const Vec3& p, const Vec3& n) const;  ///< thread safe
+  /// The first of `points` (unit normals `normals`), from index `from` on,
+  /// that no patch covers, −1 when every one is covered: covers() of each in
+  /// turn, for points close together (one face's samples), whose candidate
+  /// patches are found once. Thread safe.
+  std::ptrdiff_t first_uncovered(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                 std::size_t from = 0) const;
+  /// The same hits as PatchLocator::locate over the same patches and
+  /// tolerance (every covering patch, its nearest triangle, in patch order),
+  /// for a few points: no tree over the patch triangles is built. Thread safe.
+  void locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const;
+  /// The nearest point of any patch triangle facing `n` within `reach` of
+  /// `p` (in-plane distance too, unlike locate()); false when there is none.
+  /// Thread safe.
+  bool nearest(const Vec3& p, const Vec3& n, double reach, PatchHit& hit) const;
 
  private:
+  /// Whether bounded patch k covers p with w > 0.
+  bool covers_with(std::size_t k, const Vec3& p, const Vec3& n) const;
+  /// The bounded patches whose sphere reaches the ball (c, r), nearest first.
+  std::vector<std::size_t> near(const Vec3& c, double r) const;
   struct Bounds;
   const std::vector<Patch>* patches_;
   double tolerance_;
   std::unique_ptr<Bounds> bounds_;
 };
 
-/// Per face of `surface`: 1 when no patch covers its centroid with positive
-/// weight.
-std::vector<char> uncovered_faces(const SurfaceIndex& surface, const PatchCoverage& coverage);
+/// Where coverage is tested on the surface: on each face, the centroids of
+/// the n² triangles of its n-fold barycentric subdivision, n the smallest
+/// count that brings the face's longest edge down to `spacing` (1, the
+/// centroid alone, on faces smaller than that). On a coarse mesh the centroid
+/// alone misses bare slivers inside a face that is covered at its centre.
+struct FaceSamples {
+  std::vector<int> count;          ///< per face: n
+  std::vector<Vec3> bary;          ///< the samples of every face, face after face
+  std::vector<std::size_t> start;  ///< samples of face f: bary[start[f] .. start[f + 1])
+};
+FaceSamples face_samples(const SurfaceIndex& surface, double spacing);
 
-/// Fraction of the surface area with Σw = 0: each triangle counts with its
-/// area when its centroid has no covering patch of positive weight.
-double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage);
+/// The faces of `surface` that some sample of `samples` finds bare (no patch
+/// covers it with positive weight), ascending, and per such face its first
+/// bare sample; with `faces`, only those faces are tested.
+struct BareFaces {
+  std::vector<int> face;
+  std::vector<SurfaceSample> point;
+};
+BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, const PatchCoverage& coverage,
+                     const std::vector<int>* faces = nullptr);
+
+/// Fraction of the surface area with Σw = 0, tested at the samples of
+/// face_samples(surface, spacing): each sample stands for its face's area
+/// over n².
+double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage, double spacing);
 
 /// Per sample: 1 when no patch covers it with positive weight.
 std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage);

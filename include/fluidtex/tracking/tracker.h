@@ -30,6 +30,7 @@
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
+#include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
@@ -98,6 +99,9 @@ class Tracker {
   const std::vector<RetiredPatch>& retired() const { return retired_; }
   /// The parameters in use; lengths are resolved after the first step.
   const TrackerSettings& settings() const { return settings_; }
+  /// How far apart the points are at which coverage is tested
+  /// (face_samples): a patch edge, the resolution of the patch meshes.
+  double coverage_spacing() const { return settings_.patch_edge * settings_.method.d(); }
   const SurfaceIndex* surface() const { return surface_.get(); }
   /// The current surface, shared: it stays valid after later steps (the
   /// pipeline synthesises frame t while the tracker moves on to t + 1).
@@ -129,21 +133,23 @@ class Tracker {
   std::vector<AdvectResult> advect(const SurfaceIndex& next, double dt, StepReport& report);
   void retire_distorted(const SurfaceIndex& surface, const std::vector<AdvectResult>& advected, int frame,
                         StepReport& report);
-  std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, int frame, StepReport& report,
-                                            std::vector<int>& bare_faces);
+  std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
+                                            StepReport& report, std::vector<int>& bare_faces);
   void add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame, StepReport& report);
   void build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
                      StepReport& report);
   /// The safety net of coverage, after the frame's patches are made, faded
   /// and weighed: each of `faces` (those the Poisson update found bare; every
-  /// face on the first frame) that no patch covers yet gets a disk at its
-  /// centroid, chosen greedily in face order with the Poisson criterion among
-  /// themselves, and its patch, which fades in from this frame. A disk that
+  /// face on the first frame) that no patch covers yet at some point of
+  /// `samples` gets a disk at the first such point, chosen greedily in face
+  /// order with the Poisson criterion among themselves, and its patch, which
+  /// fades in from this frame. A disk that
   /// lost to a nearer new disk whose patch the plane test cut short, or whose
   /// patch could not be built, leaves such faces. A patch covers its own
-  /// centre's face (its coverage tail reaches its border), so every round
-  /// covers at least one face; kRefillRounds rounds at most.
-  void refill_bare_faces(const SurfaceIndex& surface, std::vector<int> faces, int frame, StepReport& report);
+  /// centre's sample (its coverage tail reaches its border), so every round
+  /// covers at least one bare point; kRefillRounds rounds at most.
+  void refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<int> faces, int frame,
+                         StepReport& report);
   static constexpr int kRefillRounds = 3;
   void fade(StepReport& report);
   void weigh(StepReport& report);
