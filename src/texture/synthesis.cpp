@@ -439,9 +439,10 @@ struct TileSums {
   }
 };
 
-/// Per-tile counts of chart, bare and clamped texels.
+/// Per-tile counts of chart, bare, margin-filled (accumulate_unreached) and
+/// clamped texels.
 struct Tally {
-  std::size_t chart = 0, bare = 0, clamped = 0;
+  std::size_t chart = 0, bare = 0, margin = 0, clamped = 0;
 };
 
 /// One frame's synthesis: binning, then per tile raster, projected fallback
@@ -471,8 +472,11 @@ class Synthesizer {
                     std::array<Vec2, 3>& px) const;
   std::vector<Region> projected_regions(const Patch& patch, const Tri& tri, std::vector<int>& touched) const;
   TriangleBins bin_triangles() const;
-  void accumulate_located(TileSums& tile) const;
-  void accumulate_binned(std::size_t index, TileSums& tile) const;
+  void accumulate_located(TileSums& tile, Tally& tally) const;
+  void add_hits(const std::vector<PatchHit>& hits, const Vec3& p, const Vec3& n, TileSums& tile, std::size_t j,
+                Tally& tally) const;
+  void accumulate_binned(std::size_t index, TileSums& tile, Tally& tally) const;
+  void accumulate_unreached(TileSums& tile, Tally& tally) const;
   void raster_job(const Job& job, TileSums& tile) const;
   void projected_job(const Job& job, TileSums& tile) const;
   void resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const;
@@ -491,6 +495,7 @@ class Synthesizer {
   const Contributor contribute_;
   TriangleBins bins_;
   std::unique_ptr<PatchLocator> locator_;
+  std::unique_ptr<PatchCoverage> coverage_;  // texels nothing else reaches (accumulate_unreached, add_hits)
 };
 
 std::vector<std::vector<float>> Synthesizer::core_weights(const std::vector<Patch>& patches,
@@ -694,25 +699,50 @@ TriangleBins Synthesizer::bin_triangles() const {
 
 /// The reference (SynthesisMethod::Exact): every texel of the tile projected
 /// through the patch triangles near it.
-void Synthesizer::accumulate_located(TileSums& tile) const {
+void Synthesizer::accumulate_located(TileSums& tile, Tally& tally) const {
   std::vector<PatchHit> hits;
   tile.rect.for_each([&](int x, int y) {
     const std::size_t i = texel_index(x, y, n_);
     if (map_.face[i] < 0) return;
     const SurfacePoint s = surface_.at(map_.face[i], map_.bary(i));
-    locator_->locate(s.position, surface_.normal_at(s), hits);
-    for (const PatchHit& h : hits) {
-      const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
-      contribute_.add(tile.acc, tile.local(x, y), h.patch, h.uv, w, c);
-    }
+    const Vec3 normal = surface_.normal_at(s);
+    locator_->locate(s.position, normal, hits);
+    add_hits(hits, s.position, normal, tile, tile.local(x, y), tally);
   });
+}
+
+/// The located hits (in patch order) of the texel at surface point `p`
+/// (normal `n`). Where none brings a weight, the texel shows a patch's
+/// margin rather than the exemplar's mean, the last resort, counted in
+/// `tally.margin`: of the patches over it (a few texels beyond the coverage
+/// tail's reach, between the points at which the tracker tests coverage),
+/// the one whose centre is nearest in uv; with none over it (a hole of a
+/// texel or two between patch borders), the nearest patch point within the
+/// projection tolerance.
+void Synthesizer::add_hits(const std::vector<PatchHit>& hits, const Vec3& p, const Vec3& n, TileSums& tile,
+                           std::size_t j, Tally& tally) const {
+  for (const PatchHit& h : hits) {
+    const auto [w, c] = contribute_.weights(h.patch, patches_[h.patch].triangles[h.tri], h.bary);
+    contribute_.add(tile.acc, j, h.patch, h.uv, w, c);
+  }
+  if (tile.acc.last_patch[j] >= 0) return;
+  PatchHit last;
+  if (!hits.empty()) {
+    last = *std::min_element(hits.begin(), hits.end(), [](const PatchHit& a, const PatchHit& b) {
+      return a.uv.squaredNorm() < b.uv.squaredNorm();  // ties: the lower patch index
+    });
+  } else if (!coverage_->nearest(p, n, tolerance_, last)) {
+    return;
+  }
+  contribute_.add(tile.acc, j, last.patch, last.uv, kCoverageTail, 0.0);
+  ++tally.margin;
 }
 
 /// Raster (SynthesisMethod::Raster): the tile's binned jobs in order. A
 /// projected hit waits until the patch's last job: as in locate(), the
 /// patch's nearest triangle gives a texel its uv and weight. A raster hit of
 /// the same patch, added at once, takes precedence.
-void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile) const {
+void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile, Tally& tally) const {
   ProjectedHits& projected = tile.projected;
   for (const Job& job : bins_.jobs[index]) {
     if (job.patch != projected.patch) {
@@ -725,6 +755,28 @@ void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile) const {
       projected_job(job, tile);
   }
   projected.flush(contribute_, tile.acc);
+  accumulate_unreached(tile, tally);
+}
+
+/// Chart texels that no binned triangle reached take the reference's
+/// projection (accumulate_located's hits, found through the patches'
+/// bounding spheres). A sliver face that the atlas put in another chart than
+/// the faces around it lies under patch triangles whose corners, and whose
+/// atlas box, are all in the surrounding chart: they are rasterised there,
+/// and the sliver's own texels, elsewhere in the atlas, would stay bare.
+/// Such texels are few (tens per frame on the real caches), so the slow way
+/// costs nothing measurable; the rest of the atlas is unchanged.
+void Synthesizer::accumulate_unreached(TileSums& tile, Tally& tally) const {
+  std::vector<PatchHit> hits;
+  tile.rect.for_each([&](int x, int y) {
+    const std::size_t i = texel_index(x, y, n_);
+    const std::size_t j = tile.local(x, y);
+    if (map_.face[i] < 0 || tile.acc.last_patch[j] >= 0) return;
+    const SurfacePoint s = surface_.at(map_.face[i], map_.bary(i));
+    const Vec3 normal = surface_.normal_at(s);
+    coverage_->locate(s.position, normal, hits);
+    add_hits(hits, s.position, normal, tile, j, tally);
+  });
 }
 
 /// A patch triangle whose corners lie in one chart, rasterised in atlas space.
@@ -866,6 +918,7 @@ SynthesisResult Synthesizer::run() {
   const std::size_t texel_count = static_cast<std::size_t>(n_) * n_;
   const std::size_t tile_count = tiles_.count();
   const std::vector<char> tile_live = live_tiles();
+  coverage_ = std::make_unique<PatchCoverage>(patches_, tolerance_);
   if (options_.method == SynthesisMethod::Exact) {
     locator_ = std::make_unique<PatchLocator>(patches_, tolerance_);
   } else {
@@ -884,14 +937,15 @@ SynthesisResult Synthesizer::run() {
     TileSums& tile = workspace.local();
     tile.start(tiles_.rect(index));
     if (locator_)
-      accumulate_located(tile);
+      accumulate_located(tile, tally[index]);
     else
-      accumulate_binned(index, tile);
+      accumulate_binned(index, tile, tally[index]);
     resolve_tile(tile, result, mask, tally[index]);
   });
   for (const Tally& t : tally) {
     result.chart_texels += t.chart;
     result.uncovered_texels += t.bare;
+    result.margin_texels += t.margin;
     result.clamped_texels += t.clamped;
   }
   dilate(result.color, mask, 8);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 #include <string>
 
 #include "fluidtex/scenes/exemplar_gen.h"
@@ -246,6 +247,115 @@ TEST(Synthesis, WeightCutoffDropsWeakPatchesContinuously) {
     ASSERT_GT(n, 5000u);
     EXPECT_LT(worst, 2e-3);  // the radial factor 1 − |uv|/1e3 differs between the two only through rounding
   }
+}
+
+/// Two patches over the square whose weights are 0 everywhere (both all
+/// margin): no texel is left bare; each shows, as a last resort, the patch
+/// whose centre is nearer in uv, and is counted as a margin texel.
+TEST(Synthesis, MarginIsTheLastResort) {
+  test::OnePatch scene(128);
+  scene.add(Vec2(0.25, 0.5), 0.0);
+  for (Vec2& uv : scene.add(Vec2(0.6, 0.1), 0.0).uvs) uv -= Vec2(1.0, 1.0);  // centre at (1, 1)
+  const Exemplar exemplar(make_exemplar("gravel", 64, 3));
+  SynthesisOptions so;
+  so.tile_size = 1.0;
+  so.radius = 0.3;
+  so.projection_tolerance = 0.05;
+  for (const SynthesisMethod method : {SynthesisMethod::Raster, SynthesisMethod::Exact}) {
+    SCOPED_TRACE(method == SynthesisMethod::Raster ? "raster" : "exact");
+    so.method = method;
+    const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+    ASSERT_GT(r.chart_texels, 5000u);
+    EXPECT_EQ(r.uncovered_texels, 0u);
+    EXPECT_EQ(r.margin_texels, r.chart_texels);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < scene.map.face.size(); ++i) {
+      if (scene.map.face[i] < 0) continue;
+      const Vec3 q = scene.surface.at(scene.map.face[i], scene.map.bary(i)).position;
+      const double da = Vec2(q.x(), q.y()).norm(), db = Vec2(q.x() - 1.0, q.y() - 1.0).norm();
+      if (std::abs(da - db) < 0.02) continue;  // the two sides of the bisector, within a texel
+      float expect[3];
+      if (da < db)
+        exemplar.sample(0.25 + q.x(), 0.5 + q.y(), expect);
+      else
+        exemplar.sample(0.6 + q.x() - 1.0, 0.1 + q.y() - 1.0, expect);
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect[c]));
+    }
+    EXPECT_LT(worst, 1e-5);
+  }
+}
+
+/// A face the atlas puts in a chart of its own (here: its corners are not
+/// shared with the faces around it) under one patch that spans it: the
+/// patch's triangles over it have their corners in the surrounding chart and
+/// are rasterised there, yet the face's own texels, elsewhere in the atlas,
+/// get the patch too, as the exact method gives them (without the raster's
+/// last pass over unreached texels: about 240 bare texels).
+TEST(Synthesis, RasterCoversAFaceInAChartOfItsOwn) {
+  FrameMesh mesh = test::flat_grid(8);
+  const int sliver = 1;  // on the square's edge: the rest stays a disk, one chart around it
+  const Tri cut = mesh.triangles[sliver];
+  for (int k = 0; k < 3; ++k) {
+    mesh.triangles[sliver][k] = static_cast<int>(mesh.positions.size());
+    mesh.positions.push_back(mesh.positions[cut[k]]);
+    mesh.velocities.push_back(mesh.velocities[cut[k]]);
+  }
+  const SurfaceIndex surface(mesh);
+  AtlasOptions ao;
+  ao.size = 256;
+  ao.min_fill = 0.0;  // the faces around it in one chart
+  const Atlas atlas = build_atlas(surface, ao);
+  const int own = atlas.face_chart[sliver];
+  ASSERT_EQ(atlas.charts[own].faces, std::vector<int>{sliver});
+  std::set<int> around;  // the charts of the faces that touch it
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      for (int v : cut) {
+        if (f != static_cast<std::size_t>(sliver) && mesh.triangles[f][k] == v) around.insert(atlas.face_chart[f]);
+      }
+    }
+  }
+  ASSERT_EQ(around.size(), 1u);
+  const TexelMap map = build_texel_map(surface, atlas);
+  test::OnePatch scene(256);  // the patch: the unsplit grid
+  Patch& patch = scene.add(Vec2(0.25, 0.5), 1.0);
+  // Every patch vertex lies on a face of the surrounding chart (as on a real
+  // mesh, where the sliver's corners are shared with the faces around it):
+  // no patch triangle has a corner in the face's own chart.
+  for (std::size_t v = 0; v < patch.positions.size(); ++v) {
+    SurfacePoint& s = patch.projections[v];
+    if (s.face != sliver) continue;
+    for (std::size_t f = 0; f < scene.mesh.triangles.size() && s.face == sliver; ++f) {
+      const Tri& t = scene.mesh.triangles[f];
+      for (int k = 0; k < 3; ++k) {
+        if (f == static_cast<std::size_t>(sliver) || t[k] != static_cast<int>(v)) continue;
+        s.face = static_cast<int>(f);
+        s.bary = Vec3::Zero();
+        s.bary[k] = 1.0;
+      }
+    }
+    ASSERT_NE(s.face, sliver);
+  }
+  const Exemplar exemplar(make_exemplar("gravel", 64, 3));
+  SynthesisOptions so;
+  so.tile_size = 1.0;
+  so.radius = 1e3;
+  so.projection_tolerance = 0.05;
+  const SynthesisResult raster = synthesize(surface, atlas, map, scene.patches, exemplar, so);
+  so.method = SynthesisMethod::Exact;
+  const SynthesisResult exact = synthesize(surface, atlas, map, scene.patches, exemplar, so);
+  EXPECT_EQ(exact.uncovered_texels, 0u);
+  EXPECT_EQ(raster.uncovered_texels, 0u);
+  std::size_t inside = 0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < map.face.size(); ++i) {
+    if (map.face[i] != sliver) continue;
+    ++inside;
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(double(raster.color.pixels[i * 3 + c]) - exact.color.pixels[i * 3 + c]));
+  }
+  EXPECT_GT(inside, 100u);
+  EXPECT_LT(worst, 1e-5);
 }
 
 TEST(Synthesis, Eq7KeepsMeanAndVarianceOfUncorrelatedPatches) {

@@ -73,6 +73,7 @@ struct SynthesisResult {
   Image patch;                          ///< dominant patch id as a colour (with aov)
   std::size_t chart_texels = 0;         ///< texels inside charts
   std::size_t uncovered_texels = 0;     ///< of those, texels with Σw = 0
+  std::size_t margin_texels = 0;        ///< of those, texels only a patch's margin reaches (shown as a last resort)
   std::size_t clamped_texels = 0;       ///< texels where a channel left [0,1]
   std::size_t projected_triangles = 0;  ///< patch triangles that took the projected fallback (Raster)
   double uncovered_fraction() const {
