@@ -108,6 +108,11 @@ SurfacePoint carried_rim_point(const SurfacePoint& from, const SurfacePoint& to,
 
 }  // namespace
 
+double projection_tolerance(const SurfacePoint& from, const Vec3& normal, const Vec3& target,
+                            const TrackingOptions& options) {
+  return options.mpt() + options.projection_slack * std::abs((target - from.position).dot(normal));
+}
+
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                           const TrackingOptions& options, Advection scheme, PatchMotion motion) {
   const double max_projection = options.mpt(), radius = options.d();
@@ -139,7 +144,8 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   // a fast sheet, noisy velocities) where the patch still lies on the
   // liquid: with recut, the patch's vertices decide (below). One that left
   // through an open rim (an outflow) has left the liquid.
-  const bool centre_missed = centre.distance > max_projection;
+  const bool centre_missed =
+      centre.distance > projection_tolerance(patch.center.point, patch.center.normal, centre_target, options);
   if (centre_missed &&
       (options.distorted != Distorted::Recut || (!centre_on_rim && left_through_rim(centre, next, max_projection))))
     return AdvectResult::CentreLost;
@@ -162,7 +168,10 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
         p.valid() ? carried_rim_point(patch.projections[v], p, target, previous, next, max_projection) : SurfacePoint{};
     const bool on_rim = rim.valid();
     if (on_rim) p = rim;
-    if (!p.valid() || p.distance > max_projection || (!on_rim && left_through_rim(p, next, max_projection))) {
+    if (!p.valid() ||
+        p.distance >
+            projection_tolerance(patch.projections[v], previous.normal_at(patch.projections[v]), target, options) ||
+        (!on_rim && left_through_rim(p, next, max_projection))) {
       keep[v] = 0;
       --kept;
       removed = true;

@@ -76,6 +76,7 @@ Survival track_sphere(const RigidMotion& m, bool paper_rules, int frames = 36) {
     settings.method.relax_frames = 0;
     settings.method.kill_frames = 0;
     settings.method.birth_margin = 0.0;
+    settings.method.projection_slack = 0.0;
     settings.method.distorted = Distorted::Fade;
   }
   Tracker tracker(settings);
@@ -626,6 +627,56 @@ TEST(Recut, APatchWhoseCentreMissesTheSurfaceIsMovedAndRecutNotLost) {
   const SurfaceIndex far(gone);
   Patch over = *built;
   EXPECT_EQ(advect(over, far), AdvectResult::CentreLost);
+}
+
+TEST(ProjectionSlack, AFastSheetWhoseVelocityOverpredictsItsNormalMotionKeepsItsPatch) {
+  // A sheet rising at w with a tangential drift u, whose next frame lies at
+  // 0.7 of w·dt (the solver's velocity over-predicts the normal motion by
+  // 30 %, as on the dam break's fast sheets): advected points land 1.2 mpt
+  // beyond it. mpt alone loses the patch; the slack keeps it, carried by
+  // u·dt along the sheet.
+  TrackingOptions o = TrackingOptions{}.resolved(1.0);
+  o.radius = 0.15;
+  const double dt = 1.0 / 24, rise = 4.0 * o.mpt(), u = 0.02 / dt;
+  const Vec3 velocity(u, 0.0, rise / dt);
+  const FrameMesh before = test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return velocity; });
+  const FrameMesh after = test::flat_grid(40, 1.0, 0.7 * rise, 0.0, 0.0, [&](const Vec3&) { return velocity; });
+  const SurfaceIndex previous(before), next(after);
+  SurfaceSample c;
+  c.point = previous.closest_point(Vec3(0.5, 0.5, 0));
+  c.normal = previous.normal_at(c.point);
+  const std::optional<Patch> built = build_patch(previous, c, o, 7, 1, 1, 0.25 * o.d());
+  ASSERT_TRUE(built);
+  const auto advect = [&](Patch& patch, const SurfaceIndex& to) {
+    return advect_patch(patch, previous, to, dt, o, Advection::Euler, PatchMotion::Smooth);
+  };
+  EXPECT_NEAR(projection_tolerance(c.point, c.normal, c.point.position + velocity * dt, o),
+              o.mpt() + o.projection_slack * rise, 1e-12);
+
+  o.projection_slack = 0.0;  // the paper: beyond mpt, lost
+  Patch paper = *built;
+  EXPECT_EQ(advect(paper, next), AdvectResult::CentreLost);
+
+  o.projection_slack = TrackingOptions{}.projection_slack;
+  ASSERT_GE(o.projection_slack * rise + o.mpt(), 1.2 * o.mpt());
+  Patch kept = *built;
+  ASSERT_EQ(advect(kept, next), AdvectResult::Kept);
+  EXPECT_EQ(kept.num_vertices(), built->num_vertices());
+  EXPECT_NEAR(kept.center.point.position.x(), 0.5 + u * dt, 1e-9);
+  EXPECT_NEAR(kept.center.point.position.z(), 0.7 * rise, 1e-9);
+
+  // Motion along the sheet earns no slack: the same sheet drifting at u
+  // alone while the next frame jumps by 2 mpt has left the liquid.
+  const FrameMesh drift = test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return Vec3(u, 0, 0); });
+  const FrameMesh jumped =
+      test::flat_grid(40, 1.0, 2.0 * o.mpt(), 0.0, 0.0, [&](const Vec3&) { return Vec3(u, 0, 0); });
+  const SurfaceIndex drifting(drift), away(jumped);
+  c.point = drifting.closest_point(Vec3(0.5, 0.5, 0));
+  c.normal = drifting.normal_at(c.point);
+  std::optional<Patch> gone = build_patch(drifting, c, o, 7, 1, 1, 0.25 * o.d());
+  ASSERT_TRUE(gone);
+  EXPECT_EQ(advect_patch(*gone, drifting, away, dt, o, Advection::Euler, PatchMotion::Smooth),
+            AdvectResult::CentreLost);
 }
 
 TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowIsLost) {

@@ -80,7 +80,7 @@ bool fit_smooth_map(const Patch& patch, const std::vector<Vec3>& targets, const 
 enum class AdvectResult {
   Kept,        ///< every vertex followed the surface, or only vertices outside the disk were lost
   Damaged,     ///< a vertex inside the disk (|uv| < d, where K_S > 0) was removed
-  CentreLost,  ///< the centre left the surface (beyond mpt): the patch is lost
+  CentreLost,  ///< the centre left the surface (beyond projection_tolerance): the patch is lost
   Emptied,     ///< no triangle is left: the patch is lost
   /// --distorted recut only: the centre missed the surface (beyond mpt) but
   /// more than half of the vertices stayed on it; the centre is moved to
@@ -97,6 +97,15 @@ inline bool is_lost(AdvectResult r) { return r == AdvectResult::CentreLost || r 
 /// the rim carried along stays on it (docs/method.md, "open rims").
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                           const TrackingOptions& options, Advection scheme, PatchMotion motion = PatchMotion::Smooth);
+
+/// How far from `next` a point advected from `from` (surface normal
+/// `normal` there) to `target` may land and still be on the liquid: mpt plus
+/// κ (--projection-slack) times the displacement's component along the
+/// normal. The solver's velocity predicts a fast sheet's motion along its
+/// normal to within a fraction of that motion; the distance beyond the new
+/// surface is that error, not a sign that the point left the liquid.
+double projection_tolerance(const SurfacePoint& from, const Vec3& normal, const Vec3& target,
+                            const TrackingOptions& options);
 
 /// Where one surface point is carried in dt (before projection onto `next`);
 /// Heun's second velocity is read at the projection of the Euler guess onto

@@ -93,6 +93,8 @@ struct TrackingOptions {
       8;  ///< plastic patches: stretch beyond the yield relaxes over this many frames (0: off, the paper)
   int kill_frames = 8;  ///< a disk too close to an older one fades out after this many frames in a row (0: at once)
   double birth_margin = 0.15;  ///< γ: new disks keep (1 + γ)·d from the others after the first frame (0: the paper)
+  double projection_slack =
+      0.5;  ///< κ: a point may land up to mpt + κ·|its advected normal motion| off the new surface (0: the paper)
   Criterion criterion = Criterion::Ellipsoid;
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
@@ -188,6 +190,14 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "nothing and the patch count per area does not creep up (0: the paper)",
                .bounds = between(0, 1)},
     o.birth_margin);
+  f(OptionInfo{.name = "projection-slack",
+               .help = "kappa: an advected patch vertex or disk centre is kept when it lands within mpt + kappa x its "
+                       "motion along the surface normal of the new surface: where the surface moves fast along its "
+                       "normal (a falling sheet, a rising crown), the solver's velocity predicts that motion only to "
+                       "a fraction of it, and the tangential motion is what the texture shows (0: mpt alone, the "
+                       "paper)",
+               .bounds = between(0, 4)},
+    o.projection_slack);
   f(OptionInfo{.name = "criterion", .help = "Poisson rejection: ellipsoid (paper), sphere, plane"}, o.criterion);
   f(OptionInfo{.name = "fading",
                .help = "Temporal weight: flow (Eq. 6, at least as fast as the flow carries a patch across its "
