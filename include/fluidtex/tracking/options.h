@@ -192,9 +192,9 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
     o.birth_margin);
   f(OptionInfo{.name = "projection-slack",
                .help = "kappa: an advected patch vertex or disk centre is kept when it lands within mpt + kappa x its "
-                       "motion along the surface normal of the new surface: where the surface moves fast along its "
-                       "normal (a falling sheet, a rising crown), the solver's velocity predicts that motion only to "
-                       "a fraction of it, and the tangential motion is what the texture shows (0: mpt alone, the "
+                       "motion along the surface normal from the new surface: where the surface moves fast along its "
+                       "normal (a falling sheet, a rising crown), the solver's velocity predicts that motion only "
+                       "roughly, and the motion along the surface is what the texture shows (0: mpt alone, the "
                        "paper)",
                .bounds = between(0, 4)},
     o.projection_slack);
