@@ -14,6 +14,10 @@ PACKAGES=(
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev libopencv-video-dev
   libopenvdb-dev libboost-iostreams-dev libblosc-dev
   libgtest-dev libgmock-dev
+  # OpenCV's image codecs link GDAL, and GDAL Xerces-C: libopencv-dev's
+  # dependencies bring them, listed here so the list names every library
+  # the build's link closure reaches
+  libgdal32 libxerces-c3.2
 )
 
 if [[ "${1:-}" == --list ]]; then
