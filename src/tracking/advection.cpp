@@ -168,9 +168,11 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
         p.valid() ? carried_rim_point(patch.projections[v], p, target, previous, next, max_projection) : SurfacePoint{};
     const bool on_rim = rim.valid();
     if (on_rim) p = rim;
+    // Most points land within mpt; only the others need the normal's share.
     if (!p.valid() ||
-        p.distance >
-            projection_tolerance(patch.projections[v], previous.normal_at(patch.projections[v]), target, options) ||
+        (p.distance > max_projection &&
+         p.distance >
+             projection_tolerance(patch.projections[v], previous.normal_at(patch.projections[v]), target, options)) ||
         (!on_rim && left_through_rim(p, next, max_projection))) {
       keep[v] = 0;
       --kept;

@@ -479,6 +479,21 @@ FaceSamples face_samples(const SurfaceIndex& surface, double spacing) {
   return out;
 }
 
+namespace {
+
+/// The surface points and normals of face f's samples.
+void sample_points(const SurfaceIndex& surface, const FaceSamples& samples, int f, std::vector<Vec3>& points,
+                   std::vector<Vec3>& normals) {
+  points.clear(), normals.clear();
+  for (std::size_t s = samples.start[f]; s < samples.start[f + 1]; ++s) {
+    const SurfacePoint p = surface.at(f, samples.bary[s]);
+    points.push_back(p.position);
+    normals.push_back(surface.normal_at(p));
+  }
+}
+
+}  // namespace
+
 BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, const PatchCoverage& coverage,
                      const std::vector<int>* faces) {
   std::vector<int> all;
@@ -493,12 +508,7 @@ BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, co
     std::vector<Vec3> points, normals;
     for (std::size_t k = r.begin(); k != r.end(); ++k) {
       const int f = (*faces)[k];
-      points.clear(), normals.clear();
-      for (std::size_t s = samples.start[f]; s < samples.start[f + 1]; ++s) {
-        const SurfacePoint p = surface.at(f, samples.bary[s]);
-        points.push_back(p.position);
-        normals.push_back(surface.normal_at(p));
-      }
+      sample_points(surface, samples, f, points, normals);
       const std::ptrdiff_t bare = coverage.first_uncovered(points, normals);
       if (bare >= 0) first[k] = static_cast<std::ptrdiff_t>(samples.start[f]) + bare;
     }
@@ -523,12 +533,7 @@ double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage&
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
     std::vector<Vec3> points, normals;
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
-      points.clear(), normals.clear();
-      for (std::size_t s = samples.start[f]; s < samples.start[f + 1]; ++s) {
-        const SurfacePoint p = surface.at(static_cast<int>(f), samples.bary[s]);
-        points.push_back(p.position);
-        normals.push_back(surface.normal_at(p));
-      }
+      sample_points(surface, samples, static_cast<int>(f), points, normals);
       for (std::ptrdiff_t i = coverage.first_uncovered(points, normals); i >= 0;
            i = coverage.first_uncovered(points, normals, static_cast<std::size_t>(i) + 1))
         ++bare[f];

@@ -471,6 +471,13 @@ TEST(Tracker, RotationGoesThroughTheStates) {
   EXPECT_GT(removed, 0);
 }
 
+/// Share of the tracker's current surface that no patch covers, tested at
+/// points `spacing` apart.
+double uncovered_area(const Tracker& t, double spacing) {
+  const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
+  return uncovered_area_fraction(*t.surface(), coverage, spacing);
+}
+
 TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
   // The rotation keeps its patches; the drop, through its contact (frame ~6
   // of 12), replaces some: patches fade in, fade out and are removed, and
@@ -495,8 +502,7 @@ TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
         if (p.state == DiskState::Active) ASSERT_EQ(p.kt, 1.0);
         if (p.state == DiskState::FadingIn) ASSERT_LT(p.kt, 1.0);
       }
-      const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
-      EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()), 1e-3) << "frame " << f;
+      EXPECT_LT(uncovered_area(t, t.coverage_spacing()), 1e-3) << "frame " << f;
     }
     if (std::string(scene) == "rotation") {
       EXPECT_EQ(removed, 0);
@@ -523,8 +529,7 @@ TEST(Tracker, DropletsSmallerThanTheDiskAreCovered) {
   Tracker t(settings);
   for (int f = 1; f <= 3; ++f) {
     t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);
-    const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
-    EXPECT_EQ(uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()), 0.0) << "frame " << f;
+    EXPECT_EQ(uncovered_area(t, t.coverage_spacing()), 0.0) << "frame " << f;
   }
 }
 
@@ -541,9 +546,8 @@ TEST(Tracker, CoarseFacesAreCoveredInside) {
   Tracker t(settings);
   for (int f = 1; f <= 4; ++f) {
     t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);
-    const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
-    EXPECT_EQ(uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()), 0.0) << "frame " << f;
-    EXPECT_LT(uncovered_area_fraction(*t.surface(), coverage, 0.5 * t.coverage_spacing()), 2e-4) << "frame " << f;
+    EXPECT_EQ(uncovered_area(t, t.coverage_spacing()), 0.0) << "frame " << f;
+    EXPECT_LT(uncovered_area(t, 0.5 * t.coverage_spacing()), 2e-4) << "frame " << f;
   }
 }
 
