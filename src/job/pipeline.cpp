@@ -264,6 +264,7 @@ class PatchTexturing final : public Texturing {
     fs.extra.emplace_back("patches_refilled", step.refilled);
     fs.extra.emplace_back("patches_relaxed", step.relaxed);
     fs.extra.emplace_back("patches_recut", step.recut);
+    for (auto& kv : recut_counts(step)) fs.extra.push_back(std::move(kv));
     fs.extra.emplace_back("patches_removed", step.removed);
     fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
     for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));

@@ -52,6 +52,16 @@ std::vector<std::pair<std::string, double>> retired_counts(const std::vector<Ret
   return out;
 }
 
+std::vector<std::pair<std::string, double>> recut_counts(const StepReport& step) {
+  std::vector<std::pair<std::string, double>> out;
+  for (int c = 1; c < kRetireCauses; ++c) {
+    const auto cause = static_cast<RetireCause>(c);
+    if (cause == RetireCause::Emptied || cause == RetireCause::TooClose) continue;  // never recut
+    out.emplace_back(std::string("recut_") + to_string(cause), step.recut_causes[c]);
+  }
+  return out;
+}
+
 PatchCounts count_states(const std::vector<Patch>& patches) {
   PatchCounts c;
   for (const Patch& p : patches) {
@@ -143,6 +153,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   const TrackingOptions& o = settings_.method;
   std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
   std::vector<char> relaxed(patches_.size(), 0);
+  std::vector<RetireCause> recut_cause(patches_.size(), RetireCause::None);
   parallel_each(patches_.size(), [&](std::size_t i) {
     if (is_lost(advected[i])) return;
     if (o.relax_frames > 0 && !is_fading_out(patches_[i].state))
@@ -164,13 +175,15 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
       if (recut) {
         update_distortion(*recut, surface, o);
         patches_[i] = std::move(*recut);
+        recut_cause[i] = distorted[i];
         distorted[i] = RetireCause::None;
       }
     }
   });
   report.relaxed = static_cast<int>(std::count(relaxed.begin(), relaxed.end(), 1));
-  report.recut = static_cast<int>(
-      std::count_if(patches_.begin(), patches_.end(), [&](const Patch& p) { return p.recut_frame == frame; }));
+  for (const RetireCause cause : recut_cause) {
+    if (cause != RetireCause::None) ++report.recut, ++report.recut_causes[static_cast<int>(cause)];
+  }
   std::vector<Patch> kept;
   kept.reserve(patches_.size());
   for (std::size_t i = 0; i < patches_.size(); ++i) {

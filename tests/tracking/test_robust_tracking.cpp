@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 
@@ -305,6 +307,7 @@ struct CloseRun {
   int too_close = 0, first = 0;
   int distorted = 0;  ///< retired as too distorted (any rule but centre lost, emptied and too close)
   int recut = 0;
+  std::array<int, kRetireCauses> recut_causes{};  ///< the recuts by the rule that found the patch distorted
   double uncovered_max = 0.0;
 };
 CloseRun converging_plane(int kill_frames, int converge, int frames, double rate = 1.5,
@@ -322,6 +325,7 @@ CloseRun converging_plane(int kill_frames, int converge, int frames, double rate
     const StepReport r =
         t.step(std::make_shared<FrameMesh>(test::flat_grid(24, 1.2, 0.0, -0.6, -0.6, velocity)), f, 1.0 / 24);
     run.recut += r.recut;
+    for (int c = 0; c < kRetireCauses; ++c) run.recut_causes[c] += r.recut_causes[c];
     for (const RetiredPatch& x : r.retired) {
       if (x.cause == RetireCause::CentreLost || x.cause == RetireCause::Emptied) continue;
       if (x.cause != RetireCause::TooClose) {
@@ -770,6 +774,19 @@ TEST(Recut, ACrushedPatchIsCutAgainNotReplaced) {
   EXPECT_EQ(recut.distorted, 0);
   EXPECT_GT(recut.recut, 5);
   EXPECT_EQ(recut.uncovered_max, 0.0);
+  // Every recut is counted under the rule that found the patch distorted:
+  // here the squeeze (quality), never a rule that does not recut.
+  EXPECT_EQ(std::accumulate(recut.recut_causes.begin(), recut.recut_causes.end(), 0), recut.recut);
+  EXPECT_GT(recut.recut_causes[static_cast<int>(RetireCause::Quality)], recut.recut / 2);
+  EXPECT_EQ(recut.recut_causes[static_cast<int>(RetireCause::None)], 0);
+  EXPECT_EQ(recut.recut_causes[static_cast<int>(RetireCause::TooClose)], 0);
+  StepReport step;
+  step.recut_causes[static_cast<int>(RetireCause::Quality)] = 4;
+  step.recut_causes[static_cast<int>(RetireCause::CentreLost)] = 1;
+  const auto names = recut_counts(step);
+  ASSERT_EQ(names.size(), 5u);  // centre lost, vertices lost, split, flipped, quality
+  EXPECT_EQ(names[0], std::make_pair(std::string("recut_centre_lost"), 1.0));
+  EXPECT_EQ(names[4], std::make_pair(std::string("recut_quality"), 4.0));
 }
 
 TEST(RetireCauses, CountsAndAgeBuckets) {

@@ -74,6 +74,7 @@ struct StepReport {
   int refilled = 0;                   ///< of those, made by the coverage safety net (refill_bare_faces)
   int relaxed = 0;                    ///< live patches whose uv relaxed (stretched beyond the yield; relax-frames)
   int recut = 0;                      ///< patches found too distorted and cut again in place (--distorted recut)
+  std::array<int, kRetireCauses> recut_causes{};  ///< of those, by the rule that would have retired them
   int removed = 0;                    ///< patches removed (faded out or lost)
   int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
   int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
@@ -168,6 +169,9 @@ class Tracker {
 /// every cause (see RetireCause) and `retired_age_<bucket>` for every age
 /// bucket (see age_bucket_name), in that order, zeros included.
 std::vector<std::pair<std::string, double>> retired_counts(const std::vector<RetiredPatch>& retired);
+/// The recuts of one step by the rule that would have retired the patch, as
+/// named counts `recut_<cause>` (every cause a recut can follow).
+std::vector<std::pair<std::string, double>> recut_counts(const StepReport& step);
 
 /// Counts of patches per state.
 PatchCounts count_states(const std::vector<Patch>& patches);
