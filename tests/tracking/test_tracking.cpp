@@ -534,8 +534,8 @@ TEST(Tracker, DropletsSmallerThanTheDiskAreCovered) {
 }
 
 /// Faces several disks wide (a coarse cache, or a wall of the tank meshed
-/// with a few large triangles): coverage is tested at points a patch edge
-/// apart, so no bare sliver hides inside a face whose centre is covered. At
+/// with a few large triangles): coverage is tested at points d/4 apart
+/// (kCoverageSpacing), so no bare sliver hides inside a face whose centre is covered. At
 /// half that spacing, gaps narrower than the samples may show (synthesis
 /// gives them a patch's margin), a tiny share of the area.
 TEST(Tracker, CoarseFacesAreCoveredInside) {

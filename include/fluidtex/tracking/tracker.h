@@ -55,9 +55,17 @@ struct TrackerSettings {
   /// centre is near (see fill_gaps); off gives the paper's centre-only test.
   bool coverage_aware = true;
   /// Patch triangles are remeshed to edges of this × d (≤ 0 keeps the
-  /// surface's own triangles; see build_patch).
-  double patch_edge = 0.25;
+  /// surface's own triangles; see build_patch). 0.35: edges of d/4 (the
+  /// default until 2026-12-04) carried twice the vertices for the same
+  /// texture and churn on the real caches (docs/performance.md).
+  double patch_edge = 0.35;
 };
+
+/// Coverage (the gap test, the safety net, uncovered_area_fraction) is tested
+/// at points this × d apart inside every face (face_samples): finer than the
+/// patch meshes, so that a face covered at one point cannot hide a bare
+/// sliver (d/2 left bare surface on the real caches).
+inline constexpr double kCoverageSpacing = 0.25;
 
 /// A patch that started leaving the distribution in a step: the rule that
 /// fired and its age then (frames since its creation).
@@ -101,8 +109,8 @@ class Tracker {
   /// The parameters in use; lengths are resolved after the first step.
   const TrackerSettings& settings() const { return settings_; }
   /// How far apart the points are at which coverage is tested
-  /// (face_samples): a patch edge, the resolution of the patch meshes.
-  double coverage_spacing() const { return settings_.patch_edge * settings_.method.d(); }
+  /// (face_samples): kCoverageSpacing × d.
+  double coverage_spacing() const { return kCoverageSpacing * settings_.method.d(); }
   const SurfaceIndex* surface() const { return surface_.get(); }
   /// The current surface, shared: it stays valid after later steps (the
   /// pipeline synthesises frame t while the tracker moves on to t + 1).
