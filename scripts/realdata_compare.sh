@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Patches (defaults), the defaults without plastic relaxation (elastic), the
-# paper's per-vertex rules and the flow-map baseline on
+# paper's per-vertex rules, the flow-map baseline and pure advection (one uv
+# set carried by the solver's velocities from the first frame, never reset:
+# the flow map with a period far beyond any cache) on
 # the real Mantaflow caches in ../shared/realdata (when present), each run
 # evaluated with `fluidtex eval`; prints the Markdown table of
 # docs/results.md ("Real simulation caches").
@@ -36,5 +38,6 @@ for scene in ${SCENES:-slosh drop obstacle}; do
   run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
     --relax-frames 0 --kill-frames 0 --birth-margin 0 --projection-slack 0 --distorted fade
   run "$scene-flowmap" "$scene" --method flowmap
+  run "$scene-advect" "$scene" --method flowmap --flowmap-period 100000
 done
 python3 scripts/realdata_tables.py "$out"
