@@ -168,6 +168,8 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
   stats.extra.emplace_back("chart_texels", static_cast<double>(result.chart_texels));
   stats.extra.emplace_back("margin_texels", static_cast<double>(result.margin_texels));
+  stats.extra.emplace_back("binned_triangles", static_cast<double>(result.binned_triangles));
+  stats.extra.emplace_back("projected_triangles", static_cast<double>(result.projected_triangles));
   stats.extra.emplace_back(
       "clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
   stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);

@@ -305,14 +305,21 @@ double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& f
   const double area3 = surface.area();
   const int n = options.size;
   double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
-  for (int iter = 0; iter < 14; ++iter) {  // density to 1/16000 of the 100% bound
+  // Density to 1/1024 of the 100% bound: at the usual 50–60% packing, within
+  // 0.3% of the densest that fits in texel count (14 steps, 1/16384, cost
+  // 40% more packing for nothing seen). The densest packing that fitted is
+  // kept, not packed again.
+  std::vector<Placement> trial;
+  for (int iter = 0; iter < 10; ++iter) {
     const double mid = 0.5 * (lo + hi);
-    if (pack_shapes(flat, mid, n, options.gutter, placement))
+    if (pack_shapes(flat, mid, n, options.gutter, trial)) {
       lo = mid;
-    else
+      placement.swap(trial);
+    } else {
       hi = mid;
+    }
   }
-  if (!(lo > 0.0) || !pack_shapes(flat, lo, n, options.gutter, placement)) {
+  if (!(lo > 0.0)) {
     throw InputError("", "atlas: " + std::to_string(flat.size()) + " charts do not fit in " + std::to_string(n) + "x" +
                              std::to_string(n) + " texels with --gutter " + std::to_string(options.gutter) +
                              "; raise --atlas-size");

@@ -52,8 +52,8 @@ void Exemplar::sample(double u, double v, float* out) const {
     const long r = i % n;
     return static_cast<int>(r < 0 ? r + n : r);
   };
-  const int x0 = wrap(static_cast<long>(fx), w), x1 = wrap(static_cast<long>(fx) + 1, w);
-  const int y0 = wrap(static_cast<long>(fy), h), y1 = wrap(static_cast<long>(fy) + 1, h);
+  const int x0 = wrap(static_cast<long>(fx), w), x1 = x0 + 1 == w ? 0 : x0 + 1;
+  const int y0 = wrap(static_cast<long>(fy), h), y1 = y0 + 1 == h ? 0 : y0 + 1;
   const float* p00 = image_.pixel(texel_index(x0, y0, w));
   const float* p10 = image_.pixel(texel_index(x1, y0, w));
   const float* p01 = image_.pixel(texel_index(x0, y1, w));

@@ -40,34 +40,31 @@ bool bary2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, Vec3& out
 /// Texel (x, y)'s centre in atlas coordinates.
 Vec2 texel_centre(int x, int y) { return Vec2(x + 0.5, y + 0.5); }
 
-/// A surface face's points as an affine function of atlas coordinates:
-/// q(x, y) = origin + x·dx + y·dy (the texel map's barycentrics are affine
-/// in the texel centre, up to their clamp into the face).
-struct AtlasPlane {
-  Vec3 origin, dx, dy;
-  bool valid = false;
-
-  AtlasPlane(const FrameMesh& mesh, int f, const std::array<Vec2, 3>& p) {
-    const Tri& t = mesh.triangles[f];
-    const Vec3& a = mesh.positions[t[0]];
-    const Vec3 e1 = mesh.positions[t[1]] - a, e2 = mesh.positions[t[2]] - a;
-    const Vec2 u = p[1] - p[0], v = p[2] - p[0];
-    const double det = u.x() * v.y() - v.x() * u.y();
-    if (!(std::abs(det) > 1e-300)) return;
-    // (l1, l2) = M⁻¹((x, y) − p0), M = [u v]; q = a + l1·e1 + l2·e2.
-    dx = (v.y() * e1 - u.y() * e2) / det;
-    dy = (u.x() * e2 - v.x() * e1) / det;
-    origin = a - p[0].x() * dx - p[0].y() * dy;
-    valid = origin.allFinite() && dx.allFinite() && dy.allFinite();
-  }
-};
+/// A per-vertex quantity of a surface face as an affine function of atlas
+/// coordinates: v(x, y) = origin + x·dx + y·dy, the barycentric blend at the
+/// atlas point (x, y) of the face's corners `p` (the texel map's barycentrics
+/// are affine in the texel centre, up to their clamp into the face, which
+/// moves a texel by at most 1e-9 of the face). False for a degenerate face,
+/// which holds no texels.
+bool atlas_affine(const std::array<Vec2, 3>& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                  TriangleProjection::Affine3& out) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec2 u = p[1] - p[0], v = p[2] - p[0];
+  const double det = u.x() * v.y() - v.x() * u.y();
+  if (!(std::abs(det) > 1e-300)) return false;
+  // (l1, l2) = M⁻¹((x, y) − p0), M = [u v]; value = a + l1·e1 + l2·e2.
+  out.dx = (v.y() * e1 - u.y() * e2) / det;
+  out.dy = (u.x() * e2 - v.x() * e1) / det;
+  out.origin = a - p[0].x() * out.dx - p[0].y() * out.dy;
+  return out.origin.allFinite() && out.dx.allFinite() && out.dy.allFinite();
+}
 
 /// The rows of a face's texels that a set of half-spaces n·q ≥ c − margin
 /// (TrianglePrism::half_spaces) leaves, each half-space as a bound on the
-/// texel centre's x: a·x + b·y + o ≥ 0 on the face's AtlasPlane.
+/// texel centre's x: a·x + b·y + o ≥ 0 on the face's points (atlas_affine).
 class RowSpans {
  public:
-  RowSpans(const AtlasPlane& plane, const std::array<TrianglePrism::HalfSpace, 5>& hs, double margin) {
+  RowSpans(const TriangleProjection::Affine3& plane, const std::array<TrianglePrism::HalfSpace, 5>& hs, double margin) {
     for (std::size_t k = 0; k < hs.size(); ++k) {
       a_[k] = hs[k].n.dot(plane.dx), b_[k] = hs[k].n.dot(plane.dy);
       o_[k] = hs[k].n.dot(plane.origin) - hs[k].c + margin;
@@ -310,54 +307,58 @@ TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
 void dilate(Image& image, std::vector<char>& mask, int rings) {
   const int w = image.width, h = image.height, nc = image.channels;
   if (w <= 0 || h <= 0 || rings <= 0) return;
-  // Only tiles within `rings` texels of a filled texel can change: list the
-  // tiles (of at least `rings` texels) next to one holding a filled texel.
-  const TileGrid grid{w, h, std::max(kTile, rings)};
-  const int tw = grid.columns(), th = grid.rows();
-  std::vector<char> filled(grid.count(), 0);
-  tbb::parallel_for(0, th, [&](int ty) {
-    Rect2i{0, ty * grid.tile, w, (ty + 1) * grid.tile}.for_each([&](int x, int y) {
-      if (mask[texel_index(x, y, w)]) filled[grid.index_of(x, y)] = 1;
-    });
-  });
-  std::vector<int> active;
-  for (int ty = 0; ty < th; ++ty) {
-    for (int tx = 0; tx < tw; ++tx) {
-      bool near = false;
-      for (int dy = -1; dy <= 1 && !near; ++dy) {
-        for (int dx = -1; dx <= 1 && !near; ++dx) {
-          const int x = tx + dx, y = ty + dy;
-          near = x >= 0 && y >= 0 && x < tw && y < th && filled[texel_index(x, y, tw)];
-        }
+  // Each ring fills the front: the empty texels with a filled 8-neighbour
+  // as the ring starts. The first front is found by one pass over the image;
+  // every later one lies among the 8-neighbours of the last.
+  auto for_neighbours = [&](int x, int y, auto&& f) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= w || yy >= h || (dx == 0 && dy == 0)) continue;
+        f(texel_index(xx, yy, w), xx, yy);
       }
-      if (near) active.push_back(ty * tw + tx);
     }
-  }
-  std::vector<char> next;
-  for (int ring = 0; ring < rings; ++ring) {
-    next = mask;
-    tbb::parallel_for(std::size_t(0), active.size(), [&](std::size_t a) {
-      grid.rect(static_cast<std::size_t>(active[a])).for_each([&](int x, int y) {
-        const std::size_t i = texel_index(x, y, w);
-        if (mask[i]) return;
-        float acc[4] = {0, 0, 0, 0};
-        int k = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = x + dx, yy = y + dy;
-            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-            const std::size_t j = texel_index(xx, yy, w);
-            if (!mask[j]) continue;
-            for (int c = 0; c < nc; ++c) acc[c] += image.pixel(j)[c];
-            ++k;
-          }
-        }
-        if (k == 0) return;
-        for (int c = 0; c < nc; ++c) image.pixel(i)[c] = acc[c] / static_cast<float>(k);
-        next[i] = 1;
-      });
+  };
+  std::vector<std::uint32_t> front;
+  {
+    std::vector<std::vector<std::uint32_t>> rows(static_cast<std::size_t>(h));
+    tbb::parallel_for(0, h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        if (mask[texel_index(x, y, w)]) continue;
+        bool near = false;
+        for_neighbours(x, y, [&](std::size_t j, int, int) { near = near || mask[j]; });
+        if (near) rows[y].push_back(static_cast<std::uint32_t>(texel_index(x, y, w)));
+      }
     });
-    mask.swap(next);
+    for (const auto& row : rows) front.insert(front.end(), row.begin(), row.end());
+  }
+  std::vector<char> queued(static_cast<std::size_t>(w) * h, 0);
+  for (std::uint32_t i : front) queued[i] = 1;
+  std::vector<std::uint32_t> next;
+  for (int ring = 0; ring < rings && !front.empty(); ++ring) {
+    // The front's texels read only texels filled before the ring.
+    tbb::parallel_for(std::size_t(0), front.size(), [&](std::size_t k) {
+      const std::size_t i = front[k];
+      const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+      float acc[4] = {0, 0, 0, 0};
+      int n = 0;
+      for_neighbours(x, y, [&](std::size_t j, int, int) {
+        if (!mask[j]) return;
+        for (int c = 0; c < nc; ++c) acc[c] += image.pixel(j)[c];
+        ++n;
+      });
+      for (int c = 0; c < nc; ++c) image.pixel(i)[c] = acc[c] / static_cast<float>(n);
+    });
+    for (std::uint32_t i : front) mask[i] = 1;
+    next.clear();
+    for (std::uint32_t i : front) {
+      for_neighbours(static_cast<int>(i % w), static_cast<int>(i / w), [&](std::size_t j, int, int) {
+        if (mask[j] || queued[j]) return;
+        queued[j] = 1;
+        next.push_back(static_cast<std::uint32_t>(j));
+      });
+    }
+    front.swap(next);
   }
 }
 
@@ -387,13 +388,12 @@ struct TriangleBins {
   std::vector<std::array<Vec2, 3>> tri_px;  // atlas corners of raster jobs, by (patch, tri) order
   std::vector<std::uint8_t> tri_rim;        // bit k: edge k (corners k, k+1) is on the patch's boundary
   std::vector<std::size_t> tri_px_base;     // first (patch, tri) slot of each patch
-  std::size_t projected = 0;                // triangles sent to the projected fallback
+  std::size_t binned = 0;                   // triangles with a core weight
+  std::size_t projected = 0;                // of those, sent to the projected fallback
 };
 
 /// The projected fallback's hits of the current patch, per tile-local texel
-/// (its nearest triangle wins), and the texels' surface points and normals,
-/// computed on a texel's first test (a texel is tested against many
-/// triangles).
+/// (its nearest triangle wins).
 struct ProjectedHits {
   struct Hit {
     double dist2 = std::numeric_limits<double>::infinity();
@@ -403,8 +403,6 @@ struct ProjectedHits {
   int patch = -1;
   std::vector<Hit> hit = std::vector<Hit>(kTileTexels);
   std::vector<std::size_t> texels;  // with a hit, in first-hit order
-  std::vector<Vec3> point = std::vector<Vec3>(kTileTexels), normal = std::vector<Vec3>(kTileTexels);
-  std::vector<char> point_ready = std::vector<char>(kTileTexels, 0);
 
   /// Adds the current patch's hits to `acc` and clears them.
   void flush(const Contributor& contribute, Accumulator& acc) {
@@ -429,7 +427,6 @@ struct TileSums {
     for (const Contribution& k : acc.list) sums.clear(k.texel);
     acc.clear();
     projected.patch = -1;
-    std::fill(projected.point_ready.begin(), projected.point_ready.end(), 0);
     rect = r;
   }
   /// Tile-local index of atlas texel (x, y).
@@ -439,7 +436,7 @@ struct TileSums {
   }
 };
 
-/// Per-tile counts of chart, bare, margin-filled (accumulate_unreached) and
+/// Per-tile counts of chart, bare, margin-filled (accumulate_tails) and
 /// clamped texels.
 struct Tally {
   std::size_t chart = 0, bare = 0, margin = 0, clamped = 0;
@@ -476,7 +473,7 @@ class Synthesizer {
   void add_hits(const std::vector<PatchHit>& hits, const Vec3& p, const Vec3& n, TileSums& tile, std::size_t j,
                 Tally& tally) const;
   void accumulate_binned(std::size_t index, TileSums& tile, Tally& tally) const;
-  void accumulate_unreached(TileSums& tile, Tally& tally) const;
+  void accumulate_tails(TileSums& tile, Tally& tally) const;
   void raster_job(const Job& job, TileSums& tile) const;
   void projected_job(const Job& job, TileSums& tile) const;
   void resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const;
@@ -495,7 +492,7 @@ class Synthesizer {
   const Contributor contribute_;
   TriangleBins bins_;
   std::unique_ptr<PatchLocator> locator_;
-  std::unique_ptr<PatchCoverage> coverage_;  // texels nothing else reaches (accumulate_unreached, add_hits)
+  std::unique_ptr<PatchCoverage> coverage_;  // texels where tails count (accumulate_tails, add_hits)
 };
 
 std::vector<std::vector<float>> Synthesizer::core_weights(const std::vector<Patch>& patches,
@@ -652,7 +649,7 @@ TriangleBins Synthesizer::bin_triangles() const {
   struct PatchBins {
     std::vector<std::pair<int, Job>> placed;  // (tile, job); job.regions indexes `lists`
     std::vector<std::vector<Region>> lists;
-    std::size_t projected = 0;
+    std::size_t binned = 0, projected = 0;
   };
   std::vector<PatchBins> per_patch(patches_.size());
   tbb::parallel_for(std::size_t(0), patches_.size(), [&](std::size_t p) {
@@ -665,6 +662,10 @@ TriangleBins Synthesizer::bin_triangles() const {
     for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
       const Tri& tri = patch.triangles[t];
       if (!(patch.weight[tri[0]] > 0 || patch.weight[tri[1]] > 0 || patch.weight[tri[2]] > 0)) continue;
+      // A triangle with no core weight at any corner brings only its
+      // coverage tail, which counts at few texels (accumulate_tails).
+      if (!(core_[p][tri[0]] > 0 || core_[p][tri[1]] > 0 || core_[p][tri[2]] > 0)) continue;
+      ++out.binned;
       auto& px = bins.tri_px[bins.tri_px_base[p] + t];
       if (in_one_chart(patch, tri, chart_border, px)) {
         // The tiles its texels (raster_job) fall in.
@@ -692,6 +693,7 @@ TriangleBins Synthesizer::bin_triangles() const {
       if (job.regions >= 0) job.regions += offset;
       bins.jobs[tile].push_back(job);
     }
+    bins.binned += b.binned;
     bins.projected += b.projected;
   }
   return bins;
@@ -738,10 +740,11 @@ void Synthesizer::add_hits(const std::vector<PatchHit>& hits, const Vec3& p, con
   ++tally.margin;
 }
 
-/// Raster (SynthesisMethod::Raster): the tile's binned jobs in order. A
-/// projected hit waits until the patch's last job: as in locate(), the
-/// patch's nearest triangle gives a texel its uv and weight. A raster hit of
-/// the same patch, added at once, takes precedence.
+/// Raster (SynthesisMethod::Raster): the tile's binned jobs (the triangles
+/// with a core weight) in order. A projected hit waits until the patch's
+/// last job: as in locate(), the patch's nearest triangle gives a texel its
+/// uv and weight. A raster hit of the same patch, added at once, takes
+/// precedence. Then the tails, where they count.
 void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile, Tally& tally) const {
   ProjectedHits& projected = tile.projected;
   for (const Job& job : bins_.jobs[index]) {
@@ -755,28 +758,47 @@ void Synthesizer::accumulate_binned(std::size_t index, TileSums& tile, Tally& ta
       projected_job(job, tile);
   }
   projected.flush(contribute_, tile.acc);
-  accumulate_unreached(tile, tally);
+  accumulate_tails(tile, tally);
 }
 
-/// Chart texels that no binned triangle reached take the reference's
-/// projection (accumulate_located's hits, found through the patches'
-/// bounding spheres). A sliver face that the atlas put in another chart than
-/// the faces around it lies under patch triangles whose corners, and whose
-/// atlas box, are all in the surrounding chart: they are rasterised there,
-/// and the sliver's own texels, elsewhere in the atlas, would stay bare.
-/// Such texels are few (tens per frame on the real caches), so the slow way
-/// costs nothing measurable; the rest of the atlas is unchanged.
-void Synthesizer::accumulate_unreached(TileSums& tile, Tally& tally) const {
-  std::vector<PatchHit> hits;
+/// The coverage tails: a patch's tail blends only where the cores leave room
+/// (λ > 0, Contributor::tail_share), a fraction of a percent of the chart
+/// texels on the real caches, so the triangles that bring only a tail (about
+/// half of all, the rim of every patch) are not binned. At those texels, and
+/// at chart texels no binned triangle reached (a sliver face that the atlas
+/// put in another chart than the faces around it lies under patch triangles
+/// rasterised in the surrounding chart, and its own texels, elsewhere in
+/// the atlas, would stay bare), the patches not there yet are added through
+/// the reference's projection (accumulate_located's hits, found through the
+/// patches' bounding spheres).
+void Synthesizer::accumulate_tails(TileSums& tile, Tally& tally) const {
+  std::vector<std::size_t> open;
   tile.rect.for_each([&](int x, int y) {
-    const std::size_t i = texel_index(x, y, n_);
+    if (map_.face[texel_index(x, y, n_)] < 0) return;
     const std::size_t j = tile.local(x, y);
-    if (map_.face[i] < 0 || tile.acc.last_patch[j] >= 0) return;
+    if (contribute_.tail_share(tile.acc.sum_core[j]) > 0.0) open.push_back(j);
+  });
+  if (open.empty()) return;
+  // The patches already over each open texel, (texel, patch) sorted.
+  std::vector<char> is_open(kTileTexels, 0);
+  for (std::size_t j : open) is_open[j] = 1;
+  std::vector<std::pair<std::size_t, int>> present;
+  for (const Contribution& k : tile.acc.list) {
+    if (is_open[k.texel]) present.emplace_back(k.texel, k.patch);
+  }
+  std::sort(present.begin(), present.end());
+  std::vector<PatchHit> hits;
+  for (std::size_t j : open) {
+    const int x = tile.rect.x0 + static_cast<int>(j % kTile), y = tile.rect.y0 + static_cast<int>(j / kTile);
+    const std::size_t i = texel_index(x, y, n_);
     const SurfacePoint s = surface_.at(map_.face[i], map_.bary(i));
     const Vec3 normal = surface_.normal_at(s);
     coverage_->locate(s.position, normal, hits);
+    std::erase_if(hits, [&](const PatchHit& h) {
+      return std::binary_search(present.begin(), present.end(), std::make_pair(j, h.patch));
+    });
     add_hits(hits, s.position, normal, tile, j, tally);
-  });
+  }
 }
 
 /// A patch triangle whose corners lie in one chart, rasterised in atlas space.
@@ -824,6 +846,8 @@ void Synthesizer::raster_job(const Job& job, TileSums& tile) const {
 
 /// A patch triangle of the projected fallback: the texels of its regions
 /// projected onto it; hits wait in `projected` for the patch's last job.
+/// Over one surface face, a texel's point and normal are affine in its
+/// atlas position, so the projection is too (TriangleProjection::OnPlane).
 void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
   ProjectedHits& projected = tile.projected;
   const Patch& patch = patches_[job.patch];
@@ -838,31 +862,30 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
   // barycentrics, far below a texel: the span only skips texels that the
   // prism test would reject.
   const double margin = 1e-3 * tolerance_;
+  const FrameMesh& mesh = surface_.mesh();
   for (const Region& r : bins_.region_lists[job.regions]) {
     const Rect2i box = r.rect & tile.rect;
     if (box.empty()) continue;
-    const AtlasPlane plane(surface_.mesh(), r.face, map_.corner_px[r.face]);
+    const Tri& ft = mesh.triangles[r.face];
+    const auto& corner = map_.corner_px[r.face];
+    TriangleProjection::Affine3 plane, normal;
+    if (!atlas_affine(corner, mesh.positions[ft[0]], mesh.positions[ft[1]], mesh.positions[ft[2]], plane)) continue;
+    const std::vector<Vec3>& vn = surface_.vertex_normals();
+    if (!atlas_affine(corner, vn[ft[0]], vn[ft[1]], vn[ft[2]], normal)) continue;
+    const TriangleProjection::OnPlane on_plane(projection, plane, normal);
+    if (!on_plane.valid()) continue;
     std::optional<RowSpans> row_spans;
-    if (bounded && plane.valid) row_spans.emplace(plane, half_spaces, margin);
-    // The face's texels (ascending, TexelMap::texels) in each row's span.
-    const auto last = map_.texels.begin() + map_.face_start[r.face + 1];
-    auto it = map_.texels.begin() + map_.face_start[r.face];
-    for (int y = box.y0; y < box.y1 && it != last; ++y) {
+    if (bounded) row_spans.emplace(plane, half_spaces, margin);
+    for (int y = box.y0; y < box.y1; ++y) {
       int x0 = box.x0, x1 = box.x1;
       if (row_spans && !row_spans->row(y, x0, x1)) continue;
-      it = std::lower_bound(it, last, static_cast<std::uint32_t>(texel_index(x0, y, n_)));
-      const std::size_t row_end = texel_index(x1, y, n_);
-      for (; it != last && *it < row_end; ++it) {
-        const std::size_t i = *it;
-        const std::size_t j = tile.local(static_cast<int>(i % n_), y);
-        if (!projected.point_ready[j]) {
-          const SurfacePoint s = surface_.at(r.face, map_.bary(i));
-          projected.point[j] = s.position, projected.normal[j] = surface_.normal_at(s), projected.point_ready[j] = 1;
-        }
-        if (!prism.may_cover(projected.point[j])) continue;
+      for (int x = x0; x < x1; ++x) {
+        const std::size_t i = texel_index(x, y, n_);
+        if (map_.face[i] != r.face) continue;
+        const std::size_t j = tile.local(x, y);
         Vec3 l;
         double dist2;
-        if (!projection.project(projected.point[j], projected.normal[j], l, dist2)) continue;
+        if (!on_plane.project(x + 0.5, y + 0.5, l, dist2)) continue;
         ProjectedHits::Hit& slot = projected.hit[j];
         if (!(dist2 < slot.dist2)) continue;  // ties: the lower triangle index, as locate()
         if (std::isinf(slot.dist2)) projected.texels.push_back(j);
@@ -923,6 +946,7 @@ SynthesisResult Synthesizer::run() {
     locator_ = std::make_unique<PatchLocator>(patches_, tolerance_);
   } else {
     bins_ = bin_triangles();
+    result.binned_triangles = bins_.binned;
     result.projected_triangles = bins_.projected;
   }
   // Per tile, in parallel: accumulate into tile-local sums (each texel's

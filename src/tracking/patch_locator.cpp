@@ -40,12 +40,53 @@ bool TriangleProjection::project(const Vec3& q, const Vec3& n, Vec3& bary, doubl
     dist2 = (qp - q).squaredNorm();
     return true;
   }
+  return closest_within_slack(q, qp, bary, dist2);
+}
+
+bool TriangleProjection::closest_within_slack(const Vec3& q, const Vec3& qp, Vec3& bary, double& dist2) const {
   // Just outside: the closest point of the triangle, within the slack.
   bary = barycentric(qp, a_, b_, c_);  // clamped to the triangle
   const Vec3 closest = interpolate(bary, a_, b_, c_);
   if ((closest - qp).squaredNorm() > slack2_) return false;
   dist2 = (closest - q).squaredNorm();
   return true;
+}
+
+TriangleProjection::OnPlane::OnPlane(const TriangleProjection& tri, const Affine3& q, const Affine3& n)
+    : tri_(&tri), q_(q) {
+  if (!(tri.tn2_ > 0.0) || !(tri.den_ > 0.0)) return;
+  // Each of project()'s quantities is linear in q (or n): its value at the
+  // origin, and its change per unit of x and of y.
+  const auto linear = [](const Vec3& w, const Affine3& f, double at_origin) {
+    return Affine{at_origin, w.dot(f.dx), w.dot(f.dy)};
+  };
+  facing_ = linear(tri.tn_, n, tri.tn_.dot(n.origin));
+  off_ = linear(tri.tn_ / tri.tn2_, q, tri.tn_.dot(q.origin - tri.a_) / tri.tn2_);
+  // l1 = (d11·(q − a)·v0 − d01·(q − a)·v1) / den, l2 likewise (project()
+  // takes the dot products with the projection qp; v0, v1 lie in the plane).
+  const Vec3 w1 = (tri.d11_ * tri.v0_ - tri.d01_ * tri.v1_) / tri.den_;
+  const Vec3 w2 = (tri.d00_ * tri.v1_ - tri.d01_ * tri.v0_) / tri.den_;
+  l1_ = linear(w1, q, w1.dot(q.origin - tri.a_));
+  l2_ = linear(w2, q, w2.dot(q.origin - tri.a_));
+  valid_ = true;
+  for (const Affine* f : {&facing_, &off_, &l1_, &l2_}) valid_ = valid_ && std::isfinite(f->o + f->x + f->y);
+  valid_ = valid_ && q.origin.allFinite() && q.dx.allFinite() && q.dy.allFinite();
+}
+
+bool TriangleProjection::OnPlane::project(double x, double y, Vec3& bary, double& dist2) const {
+  const TriangleProjection& t = *tri_;
+  if (facing_.at(x, y) <= 0.0) return false;  // other side of a sheet, or a fold
+  const double off = off_.at(x, y);
+  if (off * off * t.tn2_ > t.tolerance2_) return false;
+  const double l1 = l1_.at(x, y), l2 = l2_.at(x, y), l0 = 1.0 - l1 - l2;
+  if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9) {
+    bary = Vec3(l0, l1, l2).cwiseMax(0.0);
+    bary /= bary.sum();
+    dist2 = off * off * t.tn2_;
+    return true;
+  }
+  const Vec3 q = q_.at(x, y);
+  return t.closest_within_slack(q, q - t.tn_ * off, bary, dist2);
 }
 
 bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,

@@ -776,5 +776,64 @@ TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
   EXPECT_GT(prefiltered, 20000);
 }
 
+// TriangleProjection::OnPlane (the synthesis' projected fallback over one
+// surface face, whose points and normals are affine in atlas coordinates)
+// gives project()'s answers at those points: the same points covered, the
+// same barycentric coordinates and distances up to rounding. Faces are
+// drawn through random triangles at random tilts, their normals varying
+// across them, so that all of project()'s tests (facing, tolerance, inside,
+// slack) decide some of the points.
+TEST(TriangleProjection, OnAFacePlaneAgreesWithThePerPointProjection) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto random_vec = [&] { return Vec3(unit(rng), unit(rng), unit(rng)); };
+  Patch patch;
+  patch.triangles = {Tri{0, 1, 2}};
+  int covered = 0, rejected = 0, differ = 0, slack = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const double scale = std::pow(10.0, 2.0 * unit(rng));
+    const Vec3 offset = 10.0 * scale * random_vec();
+    patch.positions = {offset + scale * random_vec(), offset + scale * random_vec(), offset + scale * random_vec()};
+    const double tolerance = scale * 0.1 * (1.5 + unit(rng));
+    const TriangleProjection projection(patch, patch.triangles[0], tolerance);
+    const Vec3 tn =
+        (patch.positions[1] - patch.positions[0]).cross(patch.positions[2] - patch.positions[0]).normalized();
+    // The face: through the triangle's centroid, tilted, spanned by two
+    // atlas axes of about a hundredth of the triangle per texel.
+    const Vec3 centre = (patch.positions[0] + patch.positions[1] + patch.positions[2]) / 3.0;
+    const Vec3 tilt = (tn + 0.3 * random_vec()).normalized();
+    const Vec3 u = tilt.cross(random_vec()).normalized(), v = tilt.cross(u);
+    TriangleProjection::Affine3 plane{centre + 0.05 * scale * unit(rng) * tilt, 0.01 * scale * u, 0.01 * scale * v};
+    TriangleProjection::Affine3 normal{tilt + 0.5 * random_vec(), 0.005 * random_vec(), 0.005 * random_vec()};
+    if (trial % 10 == 0) normal.origin = -normal.origin;  // a face facing away
+    const TriangleProjection::OnPlane on_plane(projection, plane, normal);
+    ASSERT_TRUE(on_plane.valid());
+    for (int k = 0; k < 100; ++k) {
+      const double x = 150.0 * unit(rng), y = 150.0 * unit(rng);
+      Vec3 bary, bary_plane;
+      double dist2 = 0.0, dist2_plane = 0.0;
+      const Vec3 n = normal.at(x, y).normalized();
+      const bool full = projection.project(plane.at(x, y), n, bary, dist2);
+      const bool fast = on_plane.project(x, y, bary_plane, dist2_plane);
+      if (full != fast) {
+        ++differ;  // only where a test's two sides meet, within rounding
+        continue;
+      }
+      if (!full) {
+        ++rejected;
+        continue;
+      }
+      ++covered;
+      slack += bary.minCoeff() == 0.0;
+      ASSERT_LT((bary - bary_plane).lpNorm<Eigen::Infinity>(), 1e-9) << "trial " << trial << " point " << k;
+      ASSERT_NEAR(dist2, dist2_plane, 1e-9 * scale * scale) << "trial " << trial << " point " << k;
+    }
+  }
+  EXPECT_LE(differ, 3);
+  EXPECT_GT(covered, 4000);
+  EXPECT_GT(rejected, 20000);
+  EXPECT_GT(slack, 100);
+}
+
 }  // namespace
 }  // namespace fluidtex

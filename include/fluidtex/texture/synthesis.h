@@ -75,7 +75,8 @@ struct SynthesisResult {
   std::size_t uncovered_texels = 0;     ///< of those, texels with Σw = 0
   std::size_t margin_texels = 0;        ///< of those, texels only a patch's margin reaches (shown as a last resort)
   std::size_t clamped_texels = 0;       ///< texels where a channel left [0,1]
-  std::size_t projected_triangles = 0;  ///< patch triangles that took the projected fallback (Raster)
+  std::size_t binned_triangles = 0;     ///< patch triangles with a core weight, binned into tiles (Raster)
+  std::size_t projected_triangles = 0;  ///< of those, the ones that took the projected fallback
   double uncovered_fraction() const {
     return chart_texels ? static_cast<double>(uncovered_texels) / static_cast<double>(chart_texels) : 0.0;
   }

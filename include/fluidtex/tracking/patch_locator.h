@@ -45,7 +45,44 @@ class TriangleProjection {
   TriangleProjection(const Patch& patch, const Tri& t, double tolerance);
   bool project(const Vec3& q, const Vec3& n, Vec3& bary, double& dist2) const;
 
+  /// A Vec3 that is an affine function of two coordinates (x, y):
+  /// origin + x·dx + y·dy (the points of a flat surface face over its atlas
+  /// texels, or their interpolated normals before normalisation).
+  struct Affine3 {
+    Vec3 origin, dx, dy;
+    Vec3 at(double x, double y) const { return origin + x * dx + y * dy; }
+  };
+
+  /// project() for the points `q` of one flat face, with normals `n` (any
+  /// positive scale), both affine in (x, y). Every quantity project() tests
+  /// is then affine in (x, y) too: the signed distance along the triangle's
+  /// normal, the barycentric coordinates of the projection and the facing
+  /// test are set up once per face, and a point costs a few multiply-adds.
+  /// Only points just outside the triangle (within the slack) take the
+  /// closest-point search. The same results as project() at q(x, y), n(x, y)
+  /// up to rounding.
+  class OnPlane {
+   public:
+    OnPlane(const TriangleProjection& tri, const Affine3& q, const Affine3& n);
+    bool valid() const { return valid_; }  ///< false: the triangle is degenerate or a coefficient non-finite
+    bool project(double x, double y, Vec3& bary, double& dist2) const;
+
+   private:
+    struct Affine {
+      double o = 0.0, x = 0.0, y = 0.0;
+      double at(double px, double py) const { return o + px * x + py * y; }
+    };
+    const TriangleProjection* tri_;
+    Affine3 q_;
+    Affine facing_, off_, l1_, l2_;  // tn·n, off (tn units), l1, l2
+    bool valid_ = false;
+  };
+
  private:
+  /// The closest point of the triangle to qp (on its plane) within the
+  /// in-plane slack: its barycentrics and squared distance to q.
+  bool closest_within_slack(const Vec3& q, const Vec3& qp, Vec3& bary, double& dist2) const;
+
   Vec3 a_, b_, c_, tn_, v0_, v1_;
   double tn2_, d00_, d01_, d11_, den_, tolerance2_, slack2_;
 };
