@@ -119,6 +119,8 @@ struct Profile {
   std::vector<int> bottom, top;
   int top_max = 0;
   Eigen::Vector2i extent{0, 0};  // texels
+  bool dense = true;             // no empty column
+  long sum_bottom = 0;           // Σ bottom over the columns
 };
 
 Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, int cell) {
@@ -147,8 +149,12 @@ Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, in
   out.bottom.assign(cols, 1);
   out.top.assign(cols, 0);
   for (int c = 0; c < cols; ++c) {
-    if (lo[c] > hi[c]) continue;
+    if (lo[c] > hi[c]) {
+      out.dense = false;
+      continue;
+    }
     out.bottom[c] = std::max(0, static_cast<int>(std::floor((lo[c] - gutter) / cell)));
+    out.sum_bottom += out.bottom[c];
     out.top[c] = static_cast<int>(std::ceil((hi[c] + gutter) / cell));
     out.top_max = std::max(out.top_max, out.top[c]);
   }
@@ -181,6 +187,7 @@ bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, i
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
   std::vector<int> horizon(cols, 0);
+  std::vector<long> below(cols + 1, 0);  // below[x]: Σ horizon[0, x)
   int horizon_max = 0;
   out.assign(m, Placement{});
   for (int i : order) {
@@ -192,14 +199,23 @@ bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, i
       if (w > cols || p.top_max > rows) continue;
       for (int x = 0; x + w <= cols; ++x) {
         int y = 0;
-        for (int c = 0; c < w; ++c) {
-          if (p.bottom[c] <= p.top[c]) y = std::max(y, horizon[x + c] - p.bottom[c]);
+        long waste = 0;
+        if (p.dense) {  // the common case, in closed form: the same sums
+          const int* h = horizon.data() + x;
+          const int* b = p.bottom.data();
+          for (int c = 0; c < w; ++c) y = std::max(y, h[c] - b[c]);
+          if (y + p.top_max > rows) continue;
+          waste = static_cast<long>(w) * y + p.sum_bottom - (below[x + w] - below[x]);
+        } else {
+          for (int c = 0; c < w; ++c) {
+            if (p.bottom[c] <= p.top[c]) y = std::max(y, horizon[x + c] - p.bottom[c]);
+          }
+          if (y + p.top_max > rows) continue;
+          for (int c = 0; c < w; ++c) {
+            if (p.bottom[c] <= p.top[c]) waste += y + p.bottom[c] - horizon[x + c];
+          }
         }
-        if (y + p.top_max > rows) continue;
-        long waste = static_cast<long>(std::max(0, y + p.top_max - horizon_max)) * cols;
-        for (int c = 0; c < w; ++c) {
-          if (p.bottom[c] <= p.top[c]) waste += y + p.bottom[c] - horizon[x + c];
-        }
+        waste += static_cast<long>(std::max(0, y + p.top_max - horizon_max)) * cols;
         if (waste < best_score) best_score = waste, best_x = x, best_y = y, best_r = r;
       }
     }
@@ -208,6 +224,7 @@ bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, i
     for (std::size_t c = 0; c < p.bottom.size(); ++c) {
       if (p.bottom[c] <= p.top[c]) horizon[best_x + c] = std::max(horizon[best_x + c], best_y + p.top[c]);
     }
+    for (int x = best_x; x < cols; ++x) below[x + 1] = below[x] + horizon[x];
     horizon_max = std::max(horizon_max, best_y + p.top_max);
     out[i].rotation = best_r;
     out[i].origin = Eigen::Vector2i(best_x * cell, best_y * cell);

@@ -61,13 +61,29 @@ bool atlas_affine(const std::array<Vec2, 3>& p, const Vec3& a, const Vec3& b, co
 
 /// The rows of a face's texels that a set of half-spaces n·q ≥ c − margin
 /// (TrianglePrism::half_spaces) leaves, each half-space as a bound on the
-/// texel centre's x: a·x + b·y + o ≥ 0 on the face's points (atlas_affine).
+/// texel centre's x: a·x + b·y + o ≥ 0 on the face's points (atlas_affine);
+/// and the face's own triangle in the atlas (its texels' barycentrics are
+/// at least −1e-9, build_texel_map), so that a span holds few texels of
+/// other faces.
 class RowSpans {
  public:
-  RowSpans(const TriangleProjection::Affine3& plane, const std::array<TrianglePrism::HalfSpace, 5>& hs, double margin) {
+  RowSpans(const TriangleProjection::Affine3& plane, const std::array<TrianglePrism::HalfSpace, 5>& hs, double margin,
+           const std::array<Vec2, 3>& face_px) {
     for (std::size_t k = 0; k < hs.size(); ++k) {
-      a_[k] = hs[k].n.dot(plane.dx), b_[k] = hs[k].n.dot(plane.dy);
-      o_[k] = hs[k].n.dot(plane.origin) - hs[k].c + margin;
+      add(hs[k].n.dot(plane.dx), hs[k].n.dot(plane.dy), hs[k].n.dot(plane.origin) - hs[k].c + margin);
+    }
+    // l_k(x, y) ≥ −1e-9 (a little looser, for rounding) for the face's
+    // barycentrics, affine in the atlas position (bary2).
+    const Vec2 &p0 = face_px[0], &p1 = face_px[1], &p2 = face_px[2];
+    const double det = (p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y());
+    if (!(std::abs(det) > 1e-300)) return;
+    const double slack = 1e-9 + 1e-7;
+    for (int k = 0; k < 3; ++k) {
+      // l_k is 1 at corner k and 0 on the opposite edge (from corner k + 1 to k + 2).
+      const Vec2& e0 = face_px[(k + 1) % 3];
+      const Vec2& e1 = face_px[(k + 2) % 3];
+      const double a = (e0.y() - e1.y()) / det, b = (e1.x() - e0.x()) / det;
+      add(a, b, -(a * e0.x() + b * e0.y()) + slack);
     }
   }
 
@@ -76,12 +92,12 @@ class RowSpans {
   bool row(int y, int& x0, int& x1) const {
     double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
     const double yc = y + 0.5;
-    for (std::size_t k = 0; k < a_.size(); ++k) {
+    for (int k = 0; k < count_; ++k) {
       const double rest = o_[k] + yc * b_[k];  // a·xc + rest ≥ 0
       if (a_[k] > 0.0)
-        lo = std::max(lo, -rest / a_[k]);
+        lo = std::max(lo, -rest * inv_a_[k]);
       else if (a_[k] < 0.0)
-        hi = std::min(hi, -rest / a_[k]);
+        hi = std::min(hi, -rest * inv_a_[k]);
       else if (rest < 0.0)
         return false;
     }
@@ -95,7 +111,14 @@ class RowSpans {
   }
 
  private:
-  std::array<double, 5> a_, b_, o_;
+  /// a·x + b·y + o ≥ 0; an `a` too small to invert bounds nothing in x.
+  void add(double a, double b, double o) {
+    const double inv = 1.0 / a;
+    a_[count_] = std::isfinite(inv) ? a : 0.0, b_[count_] = b, o_[count_] = o, inv_a_[count_] = inv;
+    ++count_;
+  }
+  std::array<double, 8> a_, b_, o_, inv_a_;
+  int count_ = 0;
 };
 
 /// One patch's contribution to a texel, kept until the texel's largest core
@@ -875,7 +898,7 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
     const TriangleProjection::OnPlane on_plane(projection, plane, normal);
     if (!on_plane.valid()) continue;
     std::optional<RowSpans> row_spans;
-    if (bounded) row_spans.emplace(plane, half_spaces, margin);
+    if (bounded) row_spans.emplace(plane, half_spaces, margin, corner);
     for (int y = box.y0; y < box.y1; ++y) {
       int x0 = box.x0, x1 = box.x1;
       if (row_spans && !row_spans->row(y, x0, x1)) continue;

@@ -1,5 +1,5 @@
-// PointIndex (geometry/point_index.h) against brute force, built at once and
-// grown point by point.
+// PointIndex (geometry/point_index.h) against brute force, built at once,
+// grown point by point, and built at once then grown (its two trees).
 #include <gtest/gtest.h>
 
 #include "fluidtex/geometry/point_index.h"
@@ -42,6 +42,19 @@ TEST(PointIndex, RadiusQueriesMatchBruteForce) {
     }
   }
   EXPECT_EQ(built.point(17), points[17]);
+}
+
+TEST(PointIndex, PointsAddedToABuiltIndexAreFoundWithTheOthers) {
+  std::vector<Vec3> points;
+  for (std::uint64_t i = 0; i < 1500; ++i) points.push_back(random_point(i));
+  PointIndex index(std::vector<Vec3>(points.begin(), points.begin() + 1000));
+  for (std::size_t i = 1000; i < points.size(); ++i) EXPECT_EQ(index.add(points[i]), static_cast<int>(i));
+  ASSERT_EQ(index.size(), points.size());
+  for (std::uint64_t k = 0; k < 50; ++k) {
+    const Vec3 q = random_point(30000 + k);
+    for (double r : {0.05, 0.3}) EXPECT_EQ(index.within(q, r), brute_force(points, q, r)) << r;
+  }
+  EXPECT_EQ(index.point(1200), points[1200]);
 }
 
 }  // namespace

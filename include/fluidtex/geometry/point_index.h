@@ -1,6 +1,6 @@
 /// @file point_index.h
 /// @brief Radius queries over a growing set of 3D points (disk centres,
-/// vertices), on nanoflann's dynamic k-d tree. Results are returned sorted by
+/// vertices), on nanoflann's k-d trees. Results are returned sorted by
 /// index so that callers never depend on the tree's internal order.
 #pragma once
 
