@@ -66,7 +66,7 @@ void JobOptions::validate() const {
   if ((!output.displacement_pattern.empty() || !output.normal_pattern.empty()) && synthesis.track_only) {
     throw InputError("", "--displacement-atlas/--normal-atlas: a tracking step (--track-only) writes no atlas");
   }
-  if (synthesis.compression != ExrCompression::Zip && lower_extension(output.atlas()) != ".exr") {
+  if (synthesis.compression != SynthesisJobOptions{}.compression && lower_extension(output.atlas()) != ".exr") {
     throw InputError("", "--compression: applies to EXR atlases, not " + output.atlas());
   }
   if (synthesis.layout != TextureLayout::Scanline && lower_extension(output.atlas()) != ".exr") {

@@ -260,7 +260,11 @@ TEST(Cli, SameOutputForOneAndTwoThreads) {
     EXPECT_FALSE(a.empty()) << f;
     EXPECT_TRUE(a == b) << f;
   }
-  // A lossy, block-parallel EXR compression too.
+  // Zip, and a lossy, block-parallel EXR compression too.
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("z1")) + " --threads 1 --frames 1 --compression zip", &out), 0);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("z2")) + " --threads 2 --frames 1 --compression zip", &out), 0);
+  EXPECT_TRUE(test::read_file(dir.path() / "z1" / "atlas.0001.exr") ==
+              test::read_file(dir.path() / "z2" / "atlas.0001.exr"));
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("d1")) + " --threads 1 --frames 1 --compression dwaa", &out), 0);
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("d2")) + " --threads 2 --frames 1 --compression dwaa", &out), 0);
   EXPECT_TRUE(test::read_file(dir.path() / "d1" / "atlas.0001.exr") ==
