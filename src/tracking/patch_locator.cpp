@@ -23,6 +23,14 @@ TriangleProjection::TriangleProjection(const Patch& patch, const Tri& t, double 
   tolerance2_ = tolerance * tolerance;
   const double slack = projection_slack(tolerance);
   slack2_ = slack * slack;
+  // A point of the plane with l_k < 0 lies −l_k·h_k outside the line of the
+  // edge opposite corner k (h_k the triangle's height over it), so at least
+  // that far from the triangle: beyond the slack where −l_k·h_k > slack.
+  // A hair looser (rounding), so that closest_within_slack decides at the
+  // border as before.
+  const double twice_area = std::sqrt(tn2_);
+  const double edge[3] = {(c_ - b_).norm(), (a_ - c_).norm(), (b_ - a_).norm()};
+  for (int k = 0; k < 3; ++k) far_[k] = -(1.0 + 1e-9) * slack * edge[k] / twice_area;
 }
 
 bool TriangleProjection::project(const Vec3& q, const Vec3& n, Vec3& bary, double& dist2) const {
@@ -40,6 +48,7 @@ bool TriangleProjection::project(const Vec3& q, const Vec3& n, Vec3& bary, doubl
     dist2 = (qp - q).squaredNorm();
     return true;
   }
+  if (l0 < far_[0] || l1 < far_[1] || l2 < far_[2]) return false;  // beyond the slack of an edge
   return closest_within_slack(q, qp, bary, dist2);
 }
 
@@ -85,6 +94,7 @@ bool TriangleProjection::OnPlane::project(double x, double y, Vec3& bary, double
     dist2 = off * off * t.tn2_;
     return true;
   }
+  if (l0 < t.far_[0] || l1 < t.far_[1] || l2 < t.far_[2]) return false;  // beyond the slack of an edge
   const Vec3 q = q_.at(x, y);
   return t.closest_within_slack(q, q - t.tn_ * off, bary, dist2);
 }

@@ -776,6 +776,55 @@ TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
   EXPECT_GT(prefiltered, 20000);
 }
 
+// project_to_patch_triangle against its definition, the slack test by the
+// closest point of the triangle for every point outside it (project() skips
+// that search where an edge's line alone puts the point beyond the slack).
+// Points are drawn in a band of a few slacks around random triangles, where
+// both answers occur.
+TEST(TriangleProjection, CoversWhatItsClosestPointPutsWithinTheSlack) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto random_vec = [&] { return Vec3(unit(rng), unit(rng), unit(rng)); };
+  Patch patch;
+  patch.triangles = {Tri{0, 1, 2}};
+  int inside = 0, in_slack = 0, beyond = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const double scale = std::pow(10.0, 2.0 * unit(rng));
+    patch.positions = {scale * random_vec(), scale * random_vec(), scale * random_vec()};
+    if (trial % 3 == 0)
+      patch.positions[2] = patch.positions[0] + 0.02 * scale * random_vec() +
+                           0.5 * (patch.positions[1] - patch.positions[0]);  // a sliver
+    const double tolerance = scale * 0.3 * (1.5 + unit(rng));
+    const double slack = projection_slack(tolerance);
+    const Vec3& a = patch.positions[0];
+    const Vec3& b = patch.positions[1];
+    const Vec3& c = patch.positions[2];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    for (int k = 0; k < 100; ++k) {
+      // A point of the triangle's plane near an edge or a corner, lifted
+      // within the tolerance.
+      Vec3 l(unit(rng), unit(rng), 0.0);
+      l = 0.5 * (l + Vec3::Constant(1.0 / 3.0));
+      l.z() = 1.0 - l.x() - l.y();
+      const Vec3 on_plane = l.x() * a + l.y() * b + l.z() * c + 4.0 * slack * unit(rng) * (b - a).normalized();
+      const Vec3 q = on_plane + 0.9 * tolerance * unit(rng) * n;
+      const Vec3 qp = q - n * n.dot(q - a);
+      const Vec3 closest = interpolate(barycentric(qp, a, b, c), a, b, c);
+      const double out = (closest - qp).norm();
+      if (std::abs(out - slack) < 1e-9 * scale) continue;  // on the border: rounding decides
+      Vec3 bary;
+      double dist2;
+      const bool covered = project_to_patch_triangle(patch, patch.triangles[0], q, n, tolerance, bary, dist2);
+      ASSERT_EQ(covered, out <= slack) << "trial " << trial << " point " << k << ": " << out / slack << " slacks out";
+      const bool in = out < 1e-9 * scale;
+      inside += in, in_slack += !in && out <= slack, beyond += out > slack;
+    }
+  }
+  EXPECT_GT(inside, 10000);
+  EXPECT_GT(in_slack, 1000);
+  EXPECT_GT(beyond, 10000);
+}
+
 // TriangleProjection::OnPlane (the synthesis' projected fallback over one
 // surface face, whose points and normals are affine in atlas coordinates)
 // gives project()'s answers at those points: the same points covered, the

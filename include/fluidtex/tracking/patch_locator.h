@@ -85,6 +85,7 @@ class TriangleProjection {
 
   Vec3 a_, b_, c_, tn_, v0_, v1_;
   double tn2_, d00_, d01_, d11_, den_, tolerance2_, slack2_;
+  Vec3 far_;  // per corner k: the barycentric l_k below which a point lies beyond the slack
 };
 
 /// A cheaper, conservative form of project_to_patch_triangle's tests for one
