@@ -717,23 +717,30 @@ TEST(FaceSamples, SubdivideEachFaceDownToTheSpacing) {
   EXPECT_EQ(face_samples(surface, 0.0).count, (std::vector<int>{1, 1}));
 }
 
+// Random draws for the tests of one patch triangle against points around it.
+struct RandomTriangle {
+  explicit RandomTriangle(unsigned seed) : rng(seed) { patch.triangles = {Tri{0, 1, 2}}; }
+  double u() { return unit(rng); }  ///< uniform in [−1, 1)
+  Vec3 vec() { return Vec3(u(), u(), u()); }
+  std::mt19937 rng;
+  std::uniform_real_distribution<double> unit{-1.0, 1.0};
+  Patch patch;
+};
+
 // TrianglePrism::may_cover is a pre-test: it may pass points the full
 // projection rejects, never the reverse. Points are drawn around random
 // triangles, many of them within a few slacks of an edge, a corner or the
 // tolerance, where the two tests are closest.
 TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  auto random_vec = [&] { return Vec3(unit(rng), unit(rng), unit(rng)); };
-  Patch patch;
-  patch.triangles = {Tri{0, 1, 2}};
+  RandomTriangle draw(7);
+  Patch& patch = draw.patch;
   int covered = 0, prefiltered = 0;
   for (int trial = 0; trial < 2000; ++trial) {
-    const double scale = std::pow(10.0, 3.0 * unit(rng));
-    const Vec3 offset = 100.0 * scale * random_vec();
-    patch.positions = {offset + scale * random_vec(), offset + scale * random_vec(), offset + scale * random_vec()};
+    const double scale = std::pow(10.0, 3.0 * draw.u());
+    const Vec3 offset = 100.0 * scale * draw.vec();
+    patch.positions = {offset + scale * draw.vec(), offset + scale * draw.vec(), offset + scale * draw.vec()};
     if (trial % 50 == 0) patch.positions[2] = patch.positions[1];  // degenerate
-    const double tolerance = scale * 0.2 * (1.0 + unit(rng));
+    const double tolerance = scale * 0.2 * (1.0 + draw.u());
     const TrianglePrism prism(patch, patch.triangles[0], tolerance);
     const Vec3 tn = (patch.positions[1] - patch.positions[0]).cross(patch.positions[2] - patch.positions[0]);
     const Vec3 n = tn.squaredNorm() > 0.0 ? tn.normalized() : Vec3::UnitZ();
@@ -741,11 +748,11 @@ TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
       // A point of the triangle's plane (barycentric coordinates up to a
       // little outside), then lifted along the normal up to about the
       // tolerance.
-      Vec3 l(unit(rng), unit(rng), 0.0);
+      Vec3 l(draw.u(), draw.u(), 0.0);
       l.z() = 1.0 - l.x() - l.y();
-      if (k % 2) l *= 1.0 + 1e-3 * unit(rng);
+      if (k % 2) l *= 1.0 + 1e-3 * draw.u();
       const Vec3 p = l.x() * patch.positions[0] + l.y() * patch.positions[1] + l.z() * patch.positions[2];
-      const Vec3 q = p + (k % 3 ? 1.0 : 1.0 + 1e-9) * tolerance * unit(rng) * n;
+      const Vec3 q = p + (k % 3 ? 1.0 : 1.0 + 1e-9) * tolerance * draw.u() * n;
       Vec3 bary;
       double dist2;
       const bool full = project_to_patch_triangle(patch, patch.triangles[0], q, n, tolerance, bary, dist2);
@@ -782,19 +789,16 @@ TEST(TrianglePrism, NeverRejectsWhatTheProjectionCovers) {
 // Points are drawn in a band of a few slacks around random triangles, where
 // both answers occur.
 TEST(TriangleProjection, CoversWhatItsClosestPointPutsWithinTheSlack) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  auto random_vec = [&] { return Vec3(unit(rng), unit(rng), unit(rng)); };
-  Patch patch;
-  patch.triangles = {Tri{0, 1, 2}};
+  RandomTriangle draw(5);
+  Patch& patch = draw.patch;
   int inside = 0, in_slack = 0, beyond = 0;
   for (int trial = 0; trial < 1000; ++trial) {
-    const double scale = std::pow(10.0, 2.0 * unit(rng));
-    patch.positions = {scale * random_vec(), scale * random_vec(), scale * random_vec()};
+    const double scale = std::pow(10.0, 2.0 * draw.u());
+    patch.positions = {scale * draw.vec(), scale * draw.vec(), scale * draw.vec()};
     if (trial % 3 == 0)
-      patch.positions[2] = patch.positions[0] + 0.02 * scale * random_vec() +
-                           0.5 * (patch.positions[1] - patch.positions[0]);  // a sliver
-    const double tolerance = scale * 0.3 * (1.5 + unit(rng));
+      patch.positions[2] =
+          patch.positions[0] + 0.02 * scale * draw.vec() + 0.5 * (patch.positions[1] - patch.positions[0]);  // a sliver
+    const double tolerance = scale * 0.3 * (1.5 + draw.u());
     const double slack = projection_slack(tolerance);
     const Vec3& a = patch.positions[0];
     const Vec3& b = patch.positions[1];
@@ -803,11 +807,11 @@ TEST(TriangleProjection, CoversWhatItsClosestPointPutsWithinTheSlack) {
     for (int k = 0; k < 100; ++k) {
       // A point of the triangle's plane near an edge or a corner, lifted
       // within the tolerance.
-      Vec3 l(unit(rng), unit(rng), 0.0);
+      Vec3 l(draw.u(), draw.u(), 0.0);
       l = 0.5 * (l + Vec3::Constant(1.0 / 3.0));
       l.z() = 1.0 - l.x() - l.y();
-      const Vec3 on_plane = l.x() * a + l.y() * b + l.z() * c + 4.0 * slack * unit(rng) * (b - a).normalized();
-      const Vec3 q = on_plane + 0.9 * tolerance * unit(rng) * n;
+      const Vec3 on_plane = l.x() * a + l.y() * b + l.z() * c + 4.0 * slack * draw.u() * (b - a).normalized();
+      const Vec3 q = on_plane + 0.9 * tolerance * draw.u() * n;
       const Vec3 qp = q - n * n.dot(q - a);
       const Vec3 closest = interpolate(barycentric(qp, a, b, c), a, b, c);
       const double out = (closest - qp).norm();
@@ -833,32 +837,29 @@ TEST(TriangleProjection, CoversWhatItsClosestPointPutsWithinTheSlack) {
 // across them, so that all of project()'s tests (facing, tolerance, inside,
 // slack) decide some of the points.
 TEST(TriangleProjection, OnAFacePlaneAgreesWithThePerPointProjection) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  auto random_vec = [&] { return Vec3(unit(rng), unit(rng), unit(rng)); };
-  Patch patch;
-  patch.triangles = {Tri{0, 1, 2}};
+  RandomTriangle draw(11);
+  Patch& patch = draw.patch;
   int covered = 0, rejected = 0, differ = 0, slack = 0;
   for (int trial = 0; trial < 1000; ++trial) {
-    const double scale = std::pow(10.0, 2.0 * unit(rng));
-    const Vec3 offset = 10.0 * scale * random_vec();
-    patch.positions = {offset + scale * random_vec(), offset + scale * random_vec(), offset + scale * random_vec()};
-    const double tolerance = scale * 0.1 * (1.5 + unit(rng));
+    const double scale = std::pow(10.0, 2.0 * draw.u());
+    const Vec3 offset = 10.0 * scale * draw.vec();
+    patch.positions = {offset + scale * draw.vec(), offset + scale * draw.vec(), offset + scale * draw.vec()};
+    const double tolerance = scale * 0.1 * (1.5 + draw.u());
     const TriangleProjection projection(patch, patch.triangles[0], tolerance);
     const Vec3 tn =
         (patch.positions[1] - patch.positions[0]).cross(patch.positions[2] - patch.positions[0]).normalized();
     // The face: through the triangle's centroid, tilted, spanned by two
     // atlas axes of about a hundredth of the triangle per texel.
     const Vec3 centre = (patch.positions[0] + patch.positions[1] + patch.positions[2]) / 3.0;
-    const Vec3 tilt = (tn + 0.3 * random_vec()).normalized();
-    const Vec3 u = tilt.cross(random_vec()).normalized(), v = tilt.cross(u);
-    TriangleProjection::Affine3 plane{centre + 0.05 * scale * unit(rng) * tilt, 0.01 * scale * u, 0.01 * scale * v};
-    TriangleProjection::Affine3 normal{tilt + 0.5 * random_vec(), 0.005 * random_vec(), 0.005 * random_vec()};
+    const Vec3 tilt = (tn + 0.3 * draw.vec()).normalized();
+    const Vec3 u = tilt.cross(draw.vec()).normalized(), v = tilt.cross(u);
+    TriangleProjection::Affine3 plane{centre + 0.05 * scale * draw.u() * tilt, 0.01 * scale * u, 0.01 * scale * v};
+    TriangleProjection::Affine3 normal{tilt + 0.5 * draw.vec(), 0.005 * draw.vec(), 0.005 * draw.vec()};
     if (trial % 10 == 0) normal.origin = -normal.origin;  // a face facing away
     const TriangleProjection::OnPlane on_plane(projection, plane, normal);
     ASSERT_TRUE(on_plane.valid());
     for (int k = 0; k < 100; ++k) {
-      const double x = 150.0 * unit(rng), y = 150.0 * unit(rng);
+      const double x = 150.0 * draw.u(), y = 150.0 * draw.u();
       Vec3 bary, bary_plane;
       double dist2 = 0.0, dist2_plane = 0.0;
       const Vec3 n = normal.at(x, y).normalized();
