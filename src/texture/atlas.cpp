@@ -323,9 +323,9 @@ double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& f
   const int n = options.size;
   double lo = 0.0, hi = area3 > 0.0 ? std::sqrt(static_cast<double>(n) * n / area3) : 1.0;  // 100% would be this
   // Density to 1/1024 of the 100% bound: at the usual 50–60% packing, within
-  // 0.3% of the densest that fits in texel count (14 steps, 1/16384, cost
-  // 40% more packing for nothing seen). The densest packing that fitted is
-  // kept, not packed again.
+  // 0.3% of the densest that fits in texel count (15 packings to 1/16384
+  // cost half as much again, for nothing seen). The densest packing that
+  // fitted is kept, not packed again.
   std::vector<Placement> trial;
   for (int iter = 0; iter < 10; ++iter) {
     const double mid = 0.5 * (lo + hi);
