@@ -8,14 +8,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# libgdal32 and libxerces-c3.2: OpenCV's image codecs link GDAL, and GDAL
-# Xerces-C; libopencv-dev's dependencies bring them, listed so that the list
-# names every library the build's link closure reaches.
+# The GDAL and Xerces-C runtime libraries (second to last line) come with
+# libopencv-dev's dependencies (OpenCV's image codecs link GDAL, GDAL links
+# Xerces-C); they are listed so that the list names every library the
+# build's link closure reaches.
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev libopencv-video-dev
-  libopenvdb-dev libboost-iostreams-dev libblosc-dev libgdal32 libxerces-c3.2
+  libopenvdb-dev libboost-iostreams-dev libblosc-dev
+  libgdal32 libxerces-c3.2
   libgtest-dev libgmock-dev
 )
 
