@@ -338,7 +338,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
       for (int dx = -1; dx <= 1; ++dx) {
         const int xx = x + dx, yy = y + dy;
         if (xx < 0 || yy < 0 || xx >= w || yy >= h || (dx == 0 && dy == 0)) continue;
-        f(texel_index(xx, yy, w), xx, yy);
+        f(texel_index(xx, yy, w));
       }
     }
   };
@@ -349,7 +349,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
       for (int x = 0; x < w; ++x) {
         if (mask[texel_index(x, y, w)]) continue;
         bool near = false;
-        for_neighbours(x, y, [&](std::size_t j, int, int) { near = near || mask[j]; });
+        for_neighbours(x, y, [&](std::size_t j) { near = near || mask[j]; });
         if (near) rows[y].push_back(static_cast<std::uint32_t>(texel_index(x, y, w)));
       }
     });
@@ -365,7 +365,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
       const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
       float acc[4] = {0, 0, 0, 0};
       int n = 0;
-      for_neighbours(x, y, [&](std::size_t j, int, int) {
+      for_neighbours(x, y, [&](std::size_t j) {
         if (!mask[j]) return;
         for (int c = 0; c < nc; ++c) acc[c] += image.pixel(j)[c];
         ++n;
@@ -375,7 +375,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
     for (std::uint32_t i : front) mask[i] = 1;
     next.clear();
     for (std::uint32_t i : front) {
-      for_neighbours(static_cast<int>(i % w), static_cast<int>(i / w), [&](std::size_t j, int, int) {
+      for_neighbours(static_cast<int>(i % w), static_cast<int>(i / w), [&](std::size_t j) {
         if (mask[j] || queued[j]) return;
         queued[j] = 1;
         next.push_back(static_cast<std::uint32_t>(j));

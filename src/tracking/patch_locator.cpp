@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 #include "fluidtex/geometry/point_index.h"
 
@@ -26,11 +27,30 @@ TriangleProjection::TriangleProjection(const Patch& patch, const Tri& t, double 
   // A point of the plane with l_k < 0 lies −l_k·h_k outside the line of the
   // edge opposite corner k (h_k the triangle's height over it), so at least
   // that far from the triangle: beyond the slack where −l_k·h_k > slack.
-  // A hair looser (rounding), so that closest_within_slack decides at the
-  // border as before.
+  // A hair looser (rounding), so that the closest point decides at the
+  // border as before (settle).
   const double twice_area = std::sqrt(tn2_);
   const double edge[3] = {(c_ - b_).norm(), (a_ - c_).norm(), (b_ - a_).norm()};
   for (int k = 0; k < 3; ++k) far_[k] = -(1.0 + 1e-9) * slack * edge[k] / twice_area;
+}
+
+template <class Points>
+bool TriangleProjection::settle(double l0, double l1, double l2, double inside_dist2, Points&& points, Vec3& bary,
+                                double& dist2) const {
+  if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9) {
+    bary = Vec3(l0, l1, l2).cwiseMax(0.0);
+    bary /= bary.sum();
+    dist2 = inside_dist2;
+    return true;
+  }
+  if (l0 < far_[0] || l1 < far_[1] || l2 < far_[2]) return false;  // beyond the slack of an edge
+  // Just outside: the closest point of the triangle, within the slack.
+  const auto [q, qp] = points();
+  bary = barycentric(qp, a_, b_, c_);  // clamped to the triangle
+  const Vec3 closest = interpolate(bary, a_, b_, c_);
+  if ((closest - qp).squaredNorm() > slack2_) return false;
+  dist2 = (closest - q).squaredNorm();
+  return true;
 }
 
 bool TriangleProjection::project(const Vec3& q, const Vec3& n, Vec3& bary, double& dist2) const {
@@ -42,23 +62,8 @@ bool TriangleProjection::project(const Vec3& q, const Vec3& n, Vec3& bary, doubl
   const double d20 = v2.dot(v0_), d21 = v2.dot(v1_);
   if (!(den_ > 0.0)) return false;
   const double l1 = (d11_ * d20 - d01_ * d21) / den_, l2 = (d00_ * d21 - d01_ * d20) / den_, l0 = 1.0 - l1 - l2;
-  if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9) {
-    bary = Vec3(l0, l1, l2).cwiseMax(0.0);
-    bary /= bary.sum();
-    dist2 = (qp - q).squaredNorm();
-    return true;
-  }
-  if (l0 < far_[0] || l1 < far_[1] || l2 < far_[2]) return false;  // beyond the slack of an edge
-  return closest_within_slack(q, qp, bary, dist2);
-}
-
-bool TriangleProjection::closest_within_slack(const Vec3& q, const Vec3& qp, Vec3& bary, double& dist2) const {
-  // Just outside: the closest point of the triangle, within the slack.
-  bary = barycentric(qp, a_, b_, c_);  // clamped to the triangle
-  const Vec3 closest = interpolate(bary, a_, b_, c_);
-  if ((closest - qp).squaredNorm() > slack2_) return false;
-  dist2 = (closest - q).squaredNorm();
-  return true;
+  return settle(
+      l0, l1, l2, (qp - q).squaredNorm(), [&] { return std::pair(q, qp); }, bary, dist2);
 }
 
 TriangleProjection::OnPlane::OnPlane(const TriangleProjection& tri, const Affine3& q, const Affine3& n)
@@ -88,15 +93,11 @@ bool TriangleProjection::OnPlane::project(double x, double y, Vec3& bary, double
   const double off = off_.at(x, y);
   if (off * off * t.tn2_ > t.tolerance2_) return false;
   const double l1 = l1_.at(x, y), l2 = l2_.at(x, y), l0 = 1.0 - l1 - l2;
-  if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9) {
-    bary = Vec3(l0, l1, l2).cwiseMax(0.0);
-    bary /= bary.sum();
-    dist2 = off * off * t.tn2_;
-    return true;
-  }
-  if (l0 < t.far_[0] || l1 < t.far_[1] || l2 < t.far_[2]) return false;  // beyond the slack of an edge
-  const Vec3 q = q_.at(x, y);
-  return t.closest_within_slack(q, q - t.tn_ * off, bary, dist2);
+  const auto points = [&] {
+    const Vec3 q = q_.at(x, y);
+    return std::pair<Vec3, Vec3>(q, q - t.tn_ * off);
+  };
+  return t.settle(l0, l1, l2, off * off * t.tn2_, points, bary, dist2);
 }
 
 bool project_to_patch_triangle(const Patch& patch, const Tri& t, const Vec3& q, const Vec3& n, double tolerance,

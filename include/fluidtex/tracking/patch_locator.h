@@ -79,9 +79,13 @@ class TriangleProjection {
   };
 
  private:
-  /// The closest point of the triangle to qp (on its plane) within the
-  /// in-plane slack: its barycentrics and squared distance to q.
-  bool closest_within_slack(const Vec3& q, const Vec3& qp, Vec3& bary, double& dist2) const;
+  /// project()'s last step, once a point's barycentrics (l0, l1, l2) on the
+  /// triangle's plane are known: inside (up to rounding; `inside_dist2` is
+  /// then its squared distance), beyond the slack of an edge, or else
+  /// within the slack if the triangle's closest point is, found from the
+  /// point and its projection on the plane that `points()` returns.
+  template <class Points>
+  bool settle(double l0, double l1, double l2, double inside_dist2, Points&& points, Vec3& bary, double& dist2) const;
 
   Vec3 a_, b_, c_, tn_, v0_, v1_;
   double tn2_, d00_, d01_, d11_, den_, tolerance2_, slack2_;
