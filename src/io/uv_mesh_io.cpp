@@ -81,8 +81,7 @@ void append_int(std::string& out, long long v) {
 void write_bytes(const std::string& target, const fs::path& tmp, const std::string& bytes) {
   std::ofstream out(tmp, std::ios::binary);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw InternalError(target + ": cannot write file");
+  close_written(out, target);
 }
 
 /// The map_Kd reference: as given when relative (taken relative to the OBJ's

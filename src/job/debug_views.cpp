@@ -34,8 +34,7 @@ void write_colored_ply(const std::string& path, const std::vector<Vec3>& positio
       const std::int32_t idx[3] = {t[0], t[1], t[2]};
       out.write(reinterpret_cast<const char*>(idx), sizeof idx);
     }
-    out.close();
-    if (!out) throw InternalError(path + ": cannot write debug view");
+    close_written(out, path);
   });
 }
 

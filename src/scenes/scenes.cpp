@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <functional>
 #include <numbers>
 #include <string>
@@ -405,12 +404,7 @@ void write_frame_ply(const std::string& path, const FrameMesh& mesh) {
     append_le(data, static_cast<std::uint8_t>(3));
     for (int k = 0; k < 3; ++k) append_le(data, static_cast<std::int32_t>(t[k]));
   }
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write(data.data(), static_cast<std::streamsize>(data.size()));
-    out.close();
-    if (!out) throw InternalError(path + ": cannot write file");
-  });
+  write_text_atomically(path, data);
 }
 
 std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options) {

@@ -141,9 +141,17 @@ void write_text_atomically(const fs::path& target, const std::string& text) {
   write_atomically(target, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) throw InternalError(target.string() + ": cannot write file");
+    close_written(out, target);
   });
+}
+
+void close_written(std::ofstream& out, const fs::path& target) {
+  if (out.is_open()) out.close();
+  if (out) return;
+  // The stream keeps no error code; the failed system call left it in errno.
+  const int code = errno;
+  throw InternalError(target.string() + ": cannot write file: " +
+                      (code != 0 ? std::generic_category().message(code) : std::string("the write failed")));
 }
 
 }  // namespace fluidtex

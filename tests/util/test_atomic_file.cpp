@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "fluidtex/util/atomic_file.h"
+#include "fluidtex/util/error.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -46,6 +47,31 @@ TEST(AtomicFile, AFailedWriteKeepsTheOldFileAndLeavesNoTemporary) {
   EXPECT_EQ(test::read_file(target), "old");
   EXPECT_EQ(test::list_dir(dir.path()), std::vector<std::string>{"out.exr"});
   EXPECT_NE(temporary_sibling(target), temporary_sibling(target));  // unique names
+}
+
+TEST(AtomicFile, AFullDiskIsNamedInTheError) {
+  // /dev/full fails every write with ENOSPC, as a full output disk does.
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  std::ofstream out("/dev/full", std::ios::binary);
+  out << std::string(1 << 16, 'x');  // more than the stream buffers
+  try {
+    close_written(out, "/out/frame.bin");
+    FAIL() << "a write to a full disk passed";
+  } catch (const InternalError& e) {
+    EXPECT_STREQ(e.what(), "/out/frame.bin: cannot write file: No space left on device");
+  }
+}
+
+TEST(AtomicFile, AFolderThatCannotBeWrittenIsNamedInTheError) {
+  test::TempDir dir;
+  std::ofstream out(dir.path() / "missing" / "x.bin", std::ios::binary);
+  try {
+    close_written(out, dir.path() / "x.bin");
+    FAIL() << "a stream that never opened passed";
+  } catch (const InternalError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (dir.path() / "x.bin").string() + ": cannot write file: No such file or directory");
+  }
 }
 
 TEST(AtomicFile, StaleTemporariesOfThisMachineGoAndOtherMachinesOnlyWhenOwned) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 
@@ -29,6 +30,12 @@ void write_atomically(const std::filesystem::path& target,
 
 /// Writes `text` to `target` atomically.
 void write_text_atomically(const std::filesystem::path& target, const std::string& text);
+
+/// Closes `out`, the stream a `write_atomically` callback wrote `target`'s
+/// temporary with, and throws InternalError("TARGET: cannot write file: <the
+/// system's reason>", e.g. "No space left on device") when opening, writing or
+/// closing failed.
+void close_written(std::ofstream& out, const std::filesystem::path& target);
 
 /// Removes the temporaries a killed run left in `dir` (not recursive):
 /// those of this machine whose writer process is gone, and those of another
