@@ -62,21 +62,42 @@ const Vec3& PointIndex::point(int i) const {
   return static_cast<std::size_t>(i) < n ? impl_->fixed_cloud.points[i] : impl_->added_cloud.points[i - n];
 }
 
-std::vector<int> PointIndex::within(const Vec3& q, double radius) const {
-  std::vector<int> out;
+namespace {
+
+/// A nanoflann result set that appends the indices (plus an offset) of the
+/// points within the radius to a vector: no pairs, no sorting.
+struct Collect {
+  using DistanceType = double;
+  using IndexType = std::uint32_t;
+  double radius2;
+  int offset;
+  std::vector<int>& out;
+  bool full() const { return true; }
+  double worstDist() const { return radius2; }
+  bool addPoint(double dist2, std::uint32_t index) {
+    if (dist2 < radius2) out.push_back(offset + static_cast<int>(index));
+    return true;
+  }
+};
+
+}  // namespace
+
+void PointIndex::within(const Vec3& q, double radius, std::vector<int>& out) const {
+  out.clear();
   const double query[3] = {q.x(), q.y(), q.z()};
-  std::vector<std::pair<std::uint32_t, double>> found;
   if (impl_->fixed) {
-    nanoflann::RadiusResultSet<double, std::uint32_t> result(radius * radius, found);
+    Collect result{radius * radius, 0, out};
     impl_->fixed->findNeighbors(result, query, nanoflann::SearchParams());
-    for (const auto& match : found) out.push_back(static_cast<int>(match.first));
   }
   if (impl_->added) {
-    const int offset = static_cast<int>(impl_->fixed_cloud.points.size());
-    nanoflann::RadiusResultSet<double, std::uint32_t> result(radius * radius, found);  // clears `found`
+    Collect result{radius * radius, static_cast<int>(impl_->fixed_cloud.points.size()), out};
     impl_->added->findNeighbors(result, query, nanoflann::SearchParams());
-    for (const auto& match : found) out.push_back(offset + static_cast<int>(match.first));
   }
+}
+
+std::vector<int> PointIndex::within(const Vec3& q, double radius) const {
+  std::vector<int> out;
+  within(q, radius, out);
   std::sort(out.begin(), out.end());
   return out;
 }

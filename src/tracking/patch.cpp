@@ -13,21 +13,28 @@ double seen_weight(const Patch& patch, std::size_t t, double radius) {
 }
 
 std::vector<std::uint8_t> boundary_edge_bits(const std::vector<Tri>& triangles) {
-  std::vector<std::pair<std::uint64_t, std::size_t>> edges;  // (edge key, 3·triangle + corner)
-  edges.reserve(3 * triangles.size());
+  // Each edge listed under its lower vertex (counting sort): an edge is on
+  // the boundary when its lower vertex lists its higher one once.
+  int nv = 0;
+  for (const Tri& t : triangles) nv = std::max({nv, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<int> start(static_cast<std::size_t>(nv) + 1, 0);
+  for (const Tri& t : triangles) {
+    for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(std::min(t[k], t[(k + 1) % 3])) + 1];
+  }
+  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<int> higher(static_cast<std::size_t>(start[nv]));
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (const Tri& t : triangles) {
+    for (int k = 0; k < 3; ++k) higher[next[std::min(t[k], t[(k + 1) % 3])]++] = std::max(t[k], t[(k + 1) % 3]);
+  }
+  std::vector<std::uint8_t> bits(triangles.size(), 0);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<std::uint32_t>(triangles[t][k]),
-                 b = static_cast<std::uint32_t>(triangles[t][(k + 1) % 3]);
-      edges.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k);
+      const int lo = std::min(triangles[t][k], triangles[t][(k + 1) % 3]);
+      const int hi = std::max(triangles[t][k], triangles[t][(k + 1) % 3]);
+      if (std::count(higher.begin() + start[lo], higher.begin() + start[lo + 1], hi) == 1)
+        bits[t] |= static_cast<std::uint8_t>(1u << k);
     }
-  }
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::uint8_t> bits(triangles.size(), 0);
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    const bool alone = (e == 0 || edges[e - 1].first != edges[e].first) &&
-                       (e + 1 == edges.size() || edges[e + 1].first != edges[e].first);
-    if (alone) bits[edges[e].second / 3] |= static_cast<std::uint8_t>(1u << (edges[e].second % 3));
   }
   return bits;
 }

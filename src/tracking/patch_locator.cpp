@@ -355,8 +355,13 @@ bool PatchCoverage::covers_with(std::size_t k, const Vec3& p, const Vec3& n) con
 
 std::vector<std::size_t> PatchCoverage::near(const Vec3& c, double r) const {
   const Bounds& B = *bounds_;
-  std::vector<std::pair<double, std::size_t>> found;
-  for (int k : B.index->within(c, B.max_radius + r)) {
+  // Called per point by covers() and locate(): the scratch lists are kept
+  // per thread.
+  thread_local std::vector<int> within;
+  thread_local std::vector<std::pair<double, std::size_t>> found;
+  found.clear();
+  B.index->within(c, B.max_radius + r, within);
+  for (int k : within) {
     const double d2 = (B.centre[k] - c).squaredNorm();
     if (d2 <= (B.radius[k] + r) * (B.radius[k] + r)) found.emplace_back(d2, static_cast<std::size_t>(k));
   }

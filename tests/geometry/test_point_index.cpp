@@ -2,6 +2,8 @@
 // grown point by point, and built at once then grown (its two trees).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "fluidtex/geometry/point_index.h"
 #include "fluidtex/util/random.h"
 
@@ -55,6 +57,22 @@ TEST(PointIndex, PointsAddedToABuiltIndexAreFoundWithTheOthers) {
     for (double r : {0.05, 0.3}) EXPECT_EQ(index.within(q, r), brute_force(points, q, r)) << r;
   }
   EXPECT_EQ(index.point(1200), points[1200]);
+}
+
+TEST(PointIndex, UnorderedQueriesFindTheSamePointsAndClearTheList) {
+  std::vector<Vec3> points;
+  for (std::uint64_t i = 0; i < 1200; ++i) points.push_back(random_point(i));
+  PointIndex index(std::vector<Vec3>(points.begin(), points.begin() + 800));
+  for (std::size_t i = 800; i < points.size(); ++i) index.add(points[i]);
+  std::vector<int> found = {-1, -2};  // a caller's list from before: cleared
+  for (std::uint64_t k = 0; k < 50; ++k) {
+    const Vec3 q = random_point(40000 + k);
+    for (double r : {0.0, 0.05, 0.3}) {
+      index.within(q, r, found);
+      std::sort(found.begin(), found.end());
+      EXPECT_EQ(found, brute_force(points, q, r)) << r;
+    }
+  }
 }
 
 }  // namespace

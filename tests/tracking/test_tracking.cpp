@@ -13,6 +13,7 @@
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/fading.h"
+#include "fluidtex/tracking/patch.h"
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
@@ -132,6 +133,30 @@ SurfaceSample sample_near(const SurfaceIndex& s, const Vec3& p) {
   out.point = s.closest_point(p);
   out.normal = s.normal_at(out.point);
   return out;
+}
+
+TEST(Patch, BoundaryEdgeBitsMarkTheEdgesNoOtherTriangleUses) {
+  // A fan of four around vertex 0, one triangle hanging off edge 1-2 by a
+  // third triangle on that edge (non-manifold: not boundary), and a loose
+  // triangle far from the rest; vertex indices deliberately not in order.
+  const std::vector<Tri> triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}, {2, 1, 5}, {1, 2, 6}, {9, 8, 7}};
+  std::vector<std::uint8_t> expected(triangles.size(), 0);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+      int uses = 0;
+      for (const Tri& o : triangles) {
+        for (int j = 0; j < 3; ++j) uses += std::minmax(a, b) == std::minmax(o[j], o[(j + 1) % 3]);
+      }
+      if (uses == 1) expected[t] |= static_cast<std::uint8_t>(1u << k);
+    }
+  }
+  EXPECT_EQ(boundary_edge_bits(triangles), expected);
+  // Spelled out: the fan's rim edges 2-3, 3-4, 4-1 (1-2 has three triangles).
+  EXPECT_EQ(expected[0], 0);
+  EXPECT_EQ(expected[1], 0b010);
+  EXPECT_EQ(expected[6], 0b111);
+  EXPECT_TRUE(boundary_edge_bits({}).empty());
 }
 
 TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {

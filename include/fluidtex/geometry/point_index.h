@@ -29,6 +29,11 @@ class PointIndex {
   /// Thread safe against other queries (not against add).
   std::vector<int> within(const Vec3& q, double radius) const;
 
+  /// The same indices in no particular order (the trees' order, the same on
+  /// every run), in `out` (cleared first): for callers that order them
+  /// themselves and query often.
+  void within(const Vec3& q, double radius, std::vector<int>& out) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
