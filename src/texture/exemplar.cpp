@@ -48,12 +48,14 @@ void Exemplar::sample(double u, double v, float* out) const {
   if (std::abs(fx) > 0x1p30) fx -= w * std::floor(fx / w);
   if (std::abs(fy) > 0x1p30) fy -= h * std::floor(fy / h);
   const double tx = x - fx, ty = y - fy;
-  auto wrap = [](long i, int n) {
-    const long r = i % n;
-    return static_cast<int>(r < 0 ? r + n : r);
+  // |fx|, |fy| <= 2^30 here: int arithmetic (a 32-bit division is the
+  // cheaper one).
+  auto wrap = [](int i, int n) {
+    const int r = i % n;
+    return r < 0 ? r + n : r;
   };
-  const int x0 = wrap(static_cast<long>(fx), w), x1 = x0 + 1 == w ? 0 : x0 + 1;
-  const int y0 = wrap(static_cast<long>(fy), h), y1 = y0 + 1 == h ? 0 : y0 + 1;
+  const int x0 = wrap(static_cast<int>(fx), w), x1 = x0 + 1 == w ? 0 : x0 + 1;
+  const int y0 = wrap(static_cast<int>(fy), h), y1 = y0 + 1 == h ? 0 : y0 + 1;
   const float* p00 = image_.pixel(texel_index(x0, y0, w));
   const float* p10 = image_.pixel(texel_index(x1, y0, w));
   const float* p01 = image_.pixel(texel_index(x0, y1, w));

@@ -145,26 +145,18 @@ struct Accumulator {
   }
 };
 
-/// Per-texel sums of the blended samples, in double so that the fixed
+/// A texel's sums of the blended samples, in double so that the fixed
 /// summation order is the only thing that decides the result. A
 /// contribution's weight is its (cut) core plus λ times its coverage tail,
 /// λ = 1 − Σcore/ε clamped to [0, 1] (see SynthesisOptions::radius): core and
-/// tail sums are kept apart and combined once λ is applied.
-struct TexelSums {
-  int channels;
-  std::vector<double> sum, tail_sum;                                  // channels per texel: Σ core·c, Σ tail·c
-  std::vector<double> sum_w, sum_w2, tail_w, tail_w2, cross, best_w;  // Σcore, Σcore², Σtail, Σtail², Σcore·tail
-  std::vector<int> count, tail_count, best_patch;
-  TexelSums(std::size_t n, int c)
-      : channels(c), sum(n * c, 0.0), tail_sum(n * c, 0.0), sum_w(n, 0.0), sum_w2(n, 0.0), tail_w(n, 0.0),
-        tail_w2(n, 0.0), cross(n, 0.0), best_w(n, 0.0), count(n, 0), tail_count(n, 0), best_patch(n, -1) {}
-  /// Back to zero at texel `i`.
-  void clear(std::size_t i) {
-    for (int c = 0; c < channels; ++c) sum[i * channels + c] = 0.0, tail_sum[i * channels + c] = 0.0;
-    sum_w[i] = sum_w2[i] = tail_w[i] = tail_w2[i] = cross[i] = best_w[i] = 0.0;
-    count[i] = tail_count[i] = 0;
-    best_patch[i] = -1;
-  }
+/// tail sums are kept apart and combined once λ is applied. One texel's sums
+/// lie together (two cache lines).
+struct TexelSum {
+  std::array<double, 3> sum{}, tail_sum{};  // per channel: Σ core·c, Σ tail·c
+  double sum_w = 0.0, sum_w2 = 0.0;         // Σcore, Σcore²
+  double tail_w = 0.0, tail_w2 = 0.0;       // Σtail, Σtail²
+  double cross = 0.0, best_w = 0.0;         // Σcore·tail, the largest blended weight
+  int count = 0, tail_count = 0, best_patch = -1;
 };
 
 /// Adds patch contributions to a tile's texels (once per patch and texel)
@@ -228,26 +220,27 @@ struct Contributor {
   /// core (its tail too, for λ), then the tail-only contributions of texels
   /// with λ > 0, each in the order they came. A sample is looked up only for
   /// a weight that counts.
-  void blend(const Accumulator& acc, TexelSums& s) const {
-    const int nc = s.channels;
-    double centred[4] = {0, 0, 0, 0};
+  void blend(const Accumulator& acc, std::vector<TexelSum>& sums) const {
+    const int nc = exemplar.channels();
+    double centred[3] = {0, 0, 0};
     for (const Contribution& k : acc.list) {
       if (!(k.core > 0.0)) continue;
       const std::size_t i = k.texel;
       const double core = cut(k.core, acc.max_core[i]);
       if (!(core > 0.0) && !(k.tail > 0.0 && tail_share(acc.sum_core[i]) > 0.0)) continue;
       sample(k.patch, k.uv, centred);
+      TexelSum& s = sums[i];
       for (int c = 0; c < nc; ++c) {
-        s.sum[i * nc + c] += core * centred[c];
-        s.tail_sum[i * nc + c] += k.tail * centred[c];
+        s.sum[c] += core * centred[c];
+        s.tail_sum[c] += k.tail * centred[c];
       }
-      s.sum_w[i] += core;
-      s.sum_w2[i] += core * core;
-      s.tail_w[i] += k.tail;
-      s.tail_w2[i] += k.tail * k.tail;
-      s.cross[i] += core * k.tail;
-      if (core > 0.0) ++s.count[i];
-      if (core > s.best_w[i]) s.best_w[i] = core, s.best_patch[i] = k.patch;
+      s.sum_w += core;
+      s.sum_w2 += core * core;
+      s.tail_w += k.tail;
+      s.tail_w2 += k.tail * k.tail;
+      s.cross += core * k.tail;
+      if (core > 0.0) ++s.count;
+      if (core > s.best_w) s.best_w = core, s.best_patch = k.patch;
     }
     for (const Contribution& k : acc.list) {
       if (k.core > 0.0) continue;
@@ -255,11 +248,12 @@ struct Contributor {
       const double lambda = tail_share(acc.sum_core[i]);
       if (!(lambda > 0.0)) continue;
       sample(k.patch, k.uv, centred);
-      for (int c = 0; c < nc; ++c) s.tail_sum[i * nc + c] += k.tail * centred[c];
-      s.tail_w[i] += k.tail;
-      s.tail_w2[i] += k.tail * k.tail;
-      ++s.tail_count[i];
-      if (lambda * k.tail > s.best_w[i]) s.best_w[i] = lambda * k.tail, s.best_patch[i] = k.patch;
+      TexelSum& s = sums[i];
+      for (int c = 0; c < nc; ++c) s.tail_sum[c] += k.tail * centred[c];
+      s.tail_w += k.tail;
+      s.tail_w2 += k.tail * k.tail;
+      ++s.tail_count;
+      if (lambda * k.tail > s.best_w) s.best_w = lambda * k.tail, s.best_patch = k.patch;
     }
   }
 };
@@ -442,12 +436,12 @@ struct ProjectedHits {
 struct TileSums {
   Rect2i rect;
   Accumulator acc{kTileTexels};
-  TexelSums sums;
+  std::vector<TexelSum> sums{kTileTexels};
   ProjectedHits projected;
-  explicit TileSums(int channels) : sums(kTileTexels, channels) {}
+  TileSums() = default;
   /// Empties the workspace (what the last tile wrote) for tile `r`.
   void start(const Rect2i& r) {
-    for (const Contribution& k : acc.list) sums.clear(k.texel);
+    for (const Contribution& k : acc.list) sums[k.texel] = TexelSum{};
     acc.clear();
     projected.patch = -1;
     rect = r;
@@ -925,9 +919,8 @@ void Synthesizer::projected_job(const Job& job, TileSums& tile) const {
 void Synthesizer::resolve_tile(TileSums& tile, SynthesisResult& result, std::vector<char>& mask, Tally& tally) const {
   const int nc = exemplar_.channels();
   const Accumulator& acc = tile.acc;
-  TexelSums& s = tile.sums;
-  contribute_.blend(acc, s);
-  std::vector<double> sum(nc);
+  contribute_.blend(acc, tile.sums);
+  std::array<double, 3> sum{};
   for (int y = tile.rect.y0; y < tile.rect.y1; ++y) {
     for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
       const std::size_t i = texel_index(x, y, n_);
@@ -935,15 +928,16 @@ void Synthesizer::resolve_tile(TileSums& tile, SynthesisResult& result, std::vec
       const std::size_t j = tile.local(x, y);
       ++tally.chart;
       mask[i] = 1;
+      const TexelSum& s = tile.sums[j];
       const double lambda = contribute_.tail_share(acc.sum_core[j]);
-      for (int c = 0; c < nc; ++c) sum[c] = s.sum[j * nc + c] + lambda * s.tail_sum[j * nc + c];
-      const double sum_w = s.sum_w[j] + lambda * s.tail_w[j];
-      const double sum_w2 = s.sum_w2[j] + 2.0 * lambda * s.cross[j] + lambda * lambda * s.tail_w2[j];
+      for (int c = 0; c < nc; ++c) sum[c] = s.sum[c] + lambda * s.tail_sum[c];
+      const double sum_w = s.sum_w + lambda * s.tail_w;
+      const double sum_w2 = s.sum_w2 + 2.0 * lambda * s.cross + lambda * lambda * s.tail_w2;
       if (options_.aov) {
         result.weight.pixels[i] = static_cast<float>(sum_w);
-        result.count.pixels[i] = static_cast<float>(s.count[j] + (lambda > 0.0 ? s.tail_count[j] : 0));
-        if (s.best_patch[j] >= 0) {
-          const auto rgb = id_color(patches_[s.best_patch[j]].id);
+        result.count.pixels[i] = static_cast<float>(s.count + (lambda > 0.0 ? s.tail_count : 0));
+        if (s.best_patch >= 0) {
+          const auto rgb = id_color(patches_[s.best_patch].id);
           for (int c = 0; c < 3; ++c) result.patch.pixel(i)[c] = rgb[c] / 255.0f;
         }
       }
@@ -978,7 +972,7 @@ SynthesisResult Synthesizer::run() {
   std::vector<Tally> tally(tile_count);
   // One workspace per thread: a tile's body runs no parallel work of its
   // own, so a thread never takes up another tile while in one.
-  tbb::enumerable_thread_specific<TileSums> workspace(nc);
+  tbb::enumerable_thread_specific<TileSums> workspace;
   tbb::parallel_for(std::size_t(0), tile_count, [&](std::size_t index) {
     if (!tile_live[index]) return;
     TileSums& tile = workspace.local();
