@@ -12,6 +12,7 @@
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/random.h"
 #include "mesh_fixtures.h"
 #include "synthesis_fixtures.h"
 
@@ -470,6 +471,48 @@ TEST(Dilation, FillsGuttersFromTheCharts) {
   EXPECT_EQ(im.pixels[3 * 8 + 6], 0.0f);  // three rings out: untouched
   EXPECT_EQ(mask[3 * 8 + 5], 1);
   EXPECT_EQ(mask[3 * 8 + 6], 0);
+}
+
+TEST(Dilation, EachRingAveragesTheFilledNeighboursAsTheRingStarts) {
+  // A random mask over an odd-sized image (edges and corners included),
+  // against the rule spelled out: every ring, each empty texel with a
+  // filled 8-neighbour takes the mean of those neighbours.
+  const int w = 37, h = 23, rings = 3;
+  Image im;
+  im.width = w, im.height = h, im.channels = 2;
+  im.pixels.assign(static_cast<std::size_t>(w) * h * 2, 0.0f);
+  std::vector<char> mask(static_cast<std::size_t>(w) * h, 0);
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    mask[i] = to_unit(hash_values({7, i})) < 0.08;
+    if (mask[i]) im.pixels[2 * i] = static_cast<float>(i), im.pixels[2 * i + 1] = 1.0f;
+  }
+  Image want = im;
+  std::vector<char> want_mask = mask;
+  for (int ring = 0; ring < rings; ++ring) {
+    const Image before = want;
+    const std::vector<char> filled = want_mask;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (filled[texel_index(x, y, w)]) continue;
+        float acc[2] = {0, 0};
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h || !filled[texel_index(xx, yy, w)]) continue;
+            for (int c = 0; c < 2; ++c) acc[c] += before.pixel(texel_index(xx, yy, w))[c];
+            ++n;
+          }
+        }
+        if (n == 0) continue;
+        for (int c = 0; c < 2; ++c) want.pixel(texel_index(x, y, w))[c] = acc[c] / static_cast<float>(n);
+        want_mask[texel_index(x, y, w)] = 1;
+      }
+    }
+  }
+  dilate(im, mask, rings);
+  EXPECT_EQ(mask, want_mask);
+  EXPECT_EQ(im.pixels, want.pixels);
 }
 
 }  // namespace
