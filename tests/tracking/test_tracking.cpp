@@ -136,9 +136,9 @@ SurfaceSample sample_near(const SurfaceIndex& s, const Vec3& p) {
 }
 
 TEST(Patch, BoundaryEdgeBitsMarkTheEdgesNoOtherTriangleUses) {
-  // A fan of four around vertex 0, one triangle hanging off edge 1-2 by a
-  // third triangle on that edge (non-manifold: not boundary), and a loose
-  // triangle far from the rest; vertex indices deliberately not in order.
+  // A fan of four around vertex 0, two more triangles on its edge 1-2 (a
+  // non-manifold edge of three triangles: not a boundary edge), and a loose
+  // triangle with its vertices numbered downwards.
   const std::vector<Tri> triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}, {2, 1, 5}, {1, 2, 6}, {9, 8, 7}};
   std::vector<std::uint8_t> expected(triangles.size(), 0);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
