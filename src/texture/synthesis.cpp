@@ -139,8 +139,15 @@ struct Accumulator {
   std::vector<std::size_t> last_entry;  // per texel: that entry's index in `list`
   explicit Accumulator(std::size_t n) : sum_core(n, 0.0), max_core(n, 0.0), last_patch(n, -1), last_entry(n, 0) {}
   /// Back to empty: only the texels with an entry were written.
-  void clear() {
-    for (const Contribution& k : list) sum_core[k.texel] = 0.0, max_core[k.texel] = 0.0, last_patch[k.texel] = -1;
+  /// `also(texel)` is called once for each of those texels (at its last entry).
+  template <class F>
+  void clear(F&& also) {
+    for (std::size_t e = 0; e < list.size(); ++e) {
+      const std::uint32_t i = list[e].texel;
+      if (last_entry[i] != e) continue;
+      sum_core[i] = 0.0, max_core[i] = 0.0, last_patch[i] = -1;
+      also(i);
+    }
     list.clear();
   }
 };
@@ -447,8 +454,7 @@ struct TileSums {
   TileSums() = default;
   /// Empties the workspace (what the last tile wrote) for tile `r`.
   void start(const Rect2i& r) {
-    for (const Contribution& k : acc.list) sums[k.texel] = TexelSum{};
-    acc.clear();
+    acc.clear([&](std::uint32_t i) { sums[i] = TexelSum{}; });
     projected.patch = -1;
     rect = r;
   }

@@ -1,7 +1,8 @@
 /// @file point_index.h
 /// @brief Radius queries over a growing set of 3D points (disk centres,
-/// vertices), on nanoflann's k-d trees. Results are returned sorted by
-/// index so that callers never depend on the tree's internal order.
+/// vertices), on nanoflann's k-d trees. within() returns its results sorted
+/// by index so that callers never depend on the trees' internal order; its
+/// unordered form is for callers that order the results themselves.
 #pragma once
 
 #include <cstdint>
