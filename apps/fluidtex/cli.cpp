@@ -462,6 +462,11 @@ void add_eval(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", args->eval.seed, "Seed of the sample points")->capture_default_str();
   cmd->add_option("--flow-width", args->eval.flow_width, "Render width for the optical-flow metric (0: skip it)")
       ->capture_default_str();
+  cmd->add_option("--flow-max-motion", args->eval.flow_max_motion,
+                  "Projected motion (pixels per frame of the flow renders) from which a pixel is left out of the "
+                  "flow_slow_ figures: the optical flow is unreliable beyond")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--images", args->eval.report_images, "Preview images in the report")->capture_default_str();
   cmd->add_option("--view", args->view, "Orthographic view of the renders: top, front, side")
       ->check(CLI::IsMember(enum_choices<View>()))

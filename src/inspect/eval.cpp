@@ -249,7 +249,8 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
   return out;
 }
 
-FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask) {
+FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask,
+                             double max_motion) {
   FLUIDTEX_CHECK(a.width == b.width && a.height == b.height);
   FLUIDTEX_CHECK(expected.width == a.width && expected.height == a.height);
   FLUIDTEX_CHECK_EQ(expected.channels, 2);
@@ -276,8 +277,10 @@ FlowError optical_flow_error(const Image& a, const Image& b, const Image& expect
       if (!mask[i]) continue;
       const cv::Point2f f = flow.at<cv::Point2f>(y, x);
       const double ex = expected.pixels[2 * i], ey = expected.pixels[2 * i + 1];
-      out.endpoint += std::hypot(f.x - ex, f.y - ey);
-      out.speed += std::hypot(ex, ey);
+      const double endpoint = std::hypot(f.x - ex, f.y - ey), speed = std::hypot(ex, ey);
+      out.endpoint += endpoint;
+      out.speed += speed;
+      if (speed < max_motion) out.slow_endpoint += endpoint, out.slow_speed += speed, ++out.slow_pixels;
       const double dot = f.x * ex + f.y * ey + 1.0;
       const double na = std::sqrt(f.x * f.x + f.y * f.y + 1.0), nb = std::sqrt(ex * ex + ey * ey + 1.0);
       out.angular += std::acos(std::clamp(dot / (na * nb), -1.0, 1.0)) * 180.0 / M_PI;
@@ -285,6 +288,7 @@ FlowError optical_flow_error(const Image& a, const Image& b, const Image& expect
     }
   }
   if (out.pixels > 0) out.endpoint /= out.pixels, out.angular /= out.pixels, out.speed /= out.pixels;
+  if (out.slow_pixels > 0) out.slow_endpoint /= out.slow_pixels, out.slow_speed /= out.slow_pixels;
   return out;
 }
 
@@ -451,7 +455,7 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
       mask[i] = 1;
     }
   });
-  return optical_flow_error(a.color, b.color, expected, mask);
+  return optical_flow_error(a.color, b.color, expected, mask, options.flow_max_motion);
 }
 
 }  // namespace
@@ -597,6 +601,9 @@ void flow_metrics(const FrameMesh& previous_mesh, const TexturedFrame& previous,
     row.emplace_back("flow_endpoint_px", f.pixels ? f.endpoint : std::nan(""));
     row.emplace_back("flow_angular_deg", f.pixels ? f.angular : std::nan(""));
     row.emplace_back("flow_speed_px", f.pixels ? f.speed : std::nan(""));
+    row.emplace_back("flow_slow_endpoint_px", f.slow_pixels ? f.slow_endpoint : std::nan(""));
+    row.emplace_back("flow_slow_speed_px", f.slow_pixels ? f.slow_speed : std::nan(""));
+    row.emplace_back("flow_slow_share", f.pixels ? static_cast<double>(f.slow_pixels) / f.pixels : std::nan(""));
   }
 }
 
@@ -674,8 +681,8 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
       {"Distortion D_T", {"distortion_median", "distortion_p95"}, {"median", "95th pct"}},
       {"Warping error (σ units)", {"warp_advected", "warp_fixed", "warp_random"}, {"advected", "not moving", "random"}},
       {"Optical flow vs projected velocity (px)",
-       {"flow_endpoint_px", "flow_speed_px"},
-       {"endpoint error", "|velocity| (static)"}},
+       {"flow_endpoint_px", "flow_speed_px", "flow_slow_endpoint_px", "flow_slow_speed_px"},
+       {"endpoint error", "|velocity| (static)", "endpoint error, slow pixels", "|velocity|, slow pixels"}},
       {"Optical flow angular error (deg)", {"flow_angular_deg"}, {"angular"}},
       {"Contrast σ_out / σ_exemplar", {"contrast_r", "contrast_g", "contrast_b", "contrast"}, {"R", "G", "B", "grey"}},
       {"Spectrum distance to the exemplar", {"spectrum_distance"}, {"log-spectrum RMS"}},

@@ -87,6 +87,22 @@ TEST(Eval, OpticalFlowFindsATranslation) {
   // Against a wrong expectation the error is about the difference.
   for (std::size_t i = 0; i < expected.pixels.size(); i += 2) expected.pixels[i] = -dx;
   EXPECT_GT(optical_flow_error(a, b, expected, mask).endpoint, 3.0);
+  // Pixels expected to move by the limit or more count in the overall means
+  // only: here the left half, expected at 20 px.
+  std::size_t slow = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      expected.pixels[(y * n + x) * 2] = x < n / 2 ? 20.0f : dx;
+      slow += mask[y * n + x] && x >= n / 2;
+    }
+  }
+  const FlowError fast = optical_flow_error(a, b, expected, mask, 15.0);
+  EXPECT_EQ(fast.pixels, e.pixels);
+  EXPECT_EQ(fast.slow_pixels, slow);
+  EXPECT_GT(fast.endpoint, 5.0);
+  EXPECT_LT(fast.slow_endpoint, 0.3);
+  EXPECT_NEAR(fast.slow_speed, std::hypot(dx, dy), 1e-9);
+  EXPECT_EQ(optical_flow_error(a, b, expected, mask, 25.0).slow_pixels, e.pixels);
 }
 
 TEST(Eval, ContrastRatioIsOneForASinglePatch) {

@@ -94,12 +94,23 @@ struct FlowError {
   double angular = 0.0;   ///< mean angle between (u, v, 1) vectors, degrees
   double speed = 0.0;     ///< mean |projected velocity|, pixels: the endpoint error of a texture that does not move
   std::size_t pixels = 0;
+  /// The same means over the pixels whose projected motion is below the
+  /// limit (optical flow is unreliable beyond; see optical_flow_error).
+  double slow_endpoint = 0.0;
+  double slow_speed = 0.0;
+  std::size_t slow_pixels = 0;
 };
+
+/// Projected motion (pixels per frame) from which the optical flow is not
+/// trusted: Farnebäck's window (15 px) no longer holds the displacement.
+constexpr double kFlowMaxMotionPx = 15.0;
 
 /// Dense optical flow (OpenCV Farnebäck) from `a` to `b` (linear RGB or
 /// grey renders of consecutive frames) compared with `expected` (per pixel,
-/// two channels: the image-space displacement in pixels) where `mask` is set.
-FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask);
+/// two channels: the image-space displacement in pixels) where `mask` is set;
+/// the slow_ means also only where |expected| < `max_motion`.
+FlowError optical_flow_error(const Image& a, const Image& b, const Image& expected, const std::vector<char>& mask,
+                             double max_motion = kFlowMaxMotionPx);
 
 struct EvalOptions {
   std::string run_dir;   ///< -o: the finished run's folder
@@ -108,6 +119,7 @@ struct EvalOptions {
   int samples = 20000;   ///< warping-error sample points per frame pair
   std::uint64_t seed = 1;
   int flow_width = 512;   ///< render width for the optical-flow metric (0 = off)
+  double flow_max_motion = kFlowMaxMotionPx;  ///< pixels per frame; faster pixels are left out of the slow_ flow means
   int report_images = 4;  ///< preview images in the report
   RenderOptions render;   ///< camera of the flow renders and report images
 };
