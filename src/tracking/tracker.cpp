@@ -249,10 +249,12 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   std::vector<char> uncovered;
   if (started_ && settings_.coverage_aware) {
     std::vector<char> live_mask(patches_.size(), 0);
-    // A disk within the kill distance (still waiting out kill-frames) does
-    // not count as cover: the older patch covers its centre, and what only
-    // it covers must not become a hole when it goes.
-    for (std::size_t k = 0; k < live.size(); ++k) live_mask[live[k]] = !close[k];
+    // A disk waiting out kill-frames within the kill distance still counts
+    // as cover: it is live and textured, and most such pairs part again. Its
+    // area is refilled when it starts to fade out (the new disk fades in as
+    // it fades out). Counted as bare, it seeded disks beside it that stayed
+    // when the pair parted (docs/tracking.md, "Waiting disks count as cover").
+    for (const std::size_t i : live) live_mask[i] = !is_fading_out(patches_[i].state);
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
