@@ -10,8 +10,8 @@ flow_slow_ means; the flow is unreliable beyond), summed over the frame
 pairs, over their projected speed summed (frames where the liquid barely
 moves would make a per-frame ratio meaningless). Flow error (pairs < 15 px):
 the same over every pixel of the frame pairs whose mean projected speed is
-under 15 px (the measure before eval had the per-pixel limit). Synthesis s: median seconds of the synthesis stage per frame
-(stats.jsonl).
+under 15 px (the measure before eval had the per-pixel limit). Synthesis s:
+median seconds of the synthesis stage per frame (stats.jsonl).
 """
 import json
 import statistics

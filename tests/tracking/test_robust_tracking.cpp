@@ -152,8 +152,9 @@ struct RealCut {
   double uncovered_max = 0.0;    ///< largest uncovered area share of a frame
   double kept = 0.0;             ///< share of the first frame's patches live and not fading out at the end
   double crowding = 1.0;         ///< largest patch count per unit area over the first frame's
-  /// Disks born inside a live patch that waits out kill-frames (within the
-  /// kill distance of an older disk): the patch's K_S > 0 at the new centre.
+  /// New disks inside a live patch that waits out kill-frames (within the
+  /// kill distance of an older disk: close_frames > 0), its K_S > 0 at the
+  /// new centre; counted once per such patch.
   int born_in_waiting = 0;
 };
 
