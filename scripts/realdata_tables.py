@@ -40,8 +40,8 @@ def main(out):
         slow = [r for r in m if r.get("flow_speed_px") and r["flow_speed_px"] < 15 and r.get("flow_endpoint_px") is not None]
         flow = sum(r["flow_endpoint_px"] for r in slow) / sum(r["flow_speed_px"] for r in slow) if slow else float("nan")
         px = [r for r in m if r.get("flow_slow_speed_px") is not None and r.get("flow_slow_endpoint_px") is not None]
-        flow_px = (sum(r["flow_slow_endpoint_px"] for r in px) / sum(r["flow_slow_speed_px"] for r in px)
-                   if px and sum(r["flow_slow_speed_px"] for r in px) > 0 else float("nan"))
+        px_speed = sum(r["flow_slow_speed_px"] for r in px)
+        flow_px = sum(r["flow_slow_endpoint_px"] for r in px) / px_speed if px_speed > 0 else float("nan")
         live = [sum(s["patches"].values()) for s in stats]
         births = [s.get("patches_created", 0) / n for s, n in zip(stats[1:], live[1:]) if n]
         late = [s["patches"]["active"] / n for s, n in zip(stats, live) if n and s["frame"] - stats[0]["frame"] >= 24]
