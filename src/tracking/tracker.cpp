@@ -306,6 +306,11 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
                                 int frame, StepReport& report) {
   const ScopedStage stage(report.seconds, "refill");
   const TrackingOptions& o = settings_.method;
+  // Faces a refill patch was already centred on: one still bare after that
+  // cannot be covered by a patch of its own (a sliver folded against its
+  // vertex normals, which the patch's normal test leaves out), and as a
+  // candidate it would keep rejecting its neighbours' candidates.
+  std::vector<int> tried;
   for (int round = 0; round < kRefillRounds && !faces.empty(); ++round) {
     const PatchCoverage coverage(patches_, o.mpt());
     BareFaces bare = fluidtex::bare_faces(surface, samples, coverage, &faces);
@@ -331,6 +336,9 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
       update_weights(p, o);
     }
     report.refilled += static_cast<int>(patches_.size() - first);
+    for (const SurfaceSample& f : fresh) tried.push_back(f.point.face);
+    std::sort(tried.begin(), tried.end());
+    std::erase_if(still, [&](int f) { return std::binary_search(tried.begin(), tried.end(), f); });
     faces = std::move(still);
   }
 }
