@@ -52,7 +52,7 @@ run drop-flowmap drop --method flowmap
 run merge-flowmap merge --method flowmap
 for scene in rotation split drop merge; do
   run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
-    --relax-frames 0 --kill-frames 0 --birth-margin 0 --projection-slack 0 --distorted fade
+    --relax-frames 0 --kill-frames 0 --birth-margin 0 --birth-gap centres --projection-slack 0 --distorted fade
 done
 
 python3 scripts/compare_tables.py "$out"

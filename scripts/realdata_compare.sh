@@ -36,7 +36,7 @@ for scene in ${SCENES:-slosh drop obstacle}; do
   run "$scene-patches" "$scene"
   run "$scene-elastic" "$scene" --relax-frames 0
   run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
-    --relax-frames 0 --kill-frames 0 --birth-margin 0 --projection-slack 0 --distorted fade
+    --relax-frames 0 --kill-frames 0 --birth-margin 0 --birth-gap centres --projection-slack 0 --distorted fade
   run "$scene-flowmap" "$scene" --method flowmap
   run "$scene-advect" "$scene" --method flowmap --flowmap-period 100000
 done

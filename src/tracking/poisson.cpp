@@ -104,7 +104,8 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<SurfaceSample>& candidates, const SurfaceIndex& surface,
                                      const PoissonParams& params, double min_component_area,
-                                     const std::vector<char>* uncovered, double margin) {
+                                     const std::vector<char>* uncovered, double margin,
+                                     const std::function<bool(std::size_t)>& reached) {
   const PointIndex old_index([&] {
     std::vector<Vec3> centres;
     centres.reserve(existing.size());
@@ -128,7 +129,10 @@ std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const SurfaceSample& c = candidates[k];
     if (rejected_by(new_index, kept, c, params.radius)) continue;
-    if (!(uncovered && (*uncovered)[k]) && rejected_by(old_index, existing, c, birth_radius)) continue;
+    if (!(uncovered && (*uncovered)[k]) &&
+        (rejected_by(old_index, existing, c, birth_radius) || (reached && reached(k)))) {
+      continue;
+    }
     accept(c);
   }
   // Safety net for tiny components the criterion could not reach.

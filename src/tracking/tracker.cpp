@@ -247,6 +247,9 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   // Which candidates the live patches really cover (K_S > 0): their
   // weights are refreshed for the advected shape first.
   std::vector<char> uncovered;
+  std::optional<PatchCoverage> coverage;
+  std::function<bool(std::size_t)> reached;
+  std::vector<PatchHit> hits;
   if (started_ && settings_.coverage_aware) {
     std::vector<char> live_mask(patches_.size(), 0);
     // A disk waiting out kill-frames within the kill distance still counts
@@ -258,19 +261,31 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
-    const PatchCoverage coverage(patches_, o.mpt(), &live_mask);
-    uncovered = uncovered_samples(candidates, coverage);
+    coverage.emplace(patches_, o.mpt(), &live_mask);
+    uncovered = uncovered_samples(candidates, *coverage);
     // Random candidates miss thin strips (the fillet where a liquid surface
     // meets a wall, narrower than their spacing): the first bare sample of
     // every face left bare is a candidate too, after the others, in face
     // order.
-    const BareFaces bare = fluidtex::bare_faces(surface, samples, coverage);
+    const BareFaces bare = fluidtex::bare_faces(surface, samples, *coverage);
     bare_faces = bare.face;
     candidates.insert(candidates.end(), bare.point.begin(), bare.point.end());
     uncovered.resize(candidates.size(), 1);
+    // The birth margin measured on the patches too: a live patch stretched
+    // by the liquid still shows its own disk where its centre has moved more
+    // than (1 + γ)·d away in space. A gap the liquid opens inside a patch
+    // seeds nothing until the patch yields (relax-frames) or is recut, so a
+    // stretch the liquid undoes leaves no extra disks behind (docs/tracking.md,
+    // "The birth margin measured in the patches' uv").
+    const double reach = (1.0 + o.birth_margin) * o.d();
+    if (o.birth_gap == BirthGap::Patches)
+      reached = [&, reach](std::size_t k) {
+        coverage->locate(candidates[k].point.position, candidates[k].normal, hits);
+        return std::any_of(hits.begin(), hits.end(), [&](const PatchHit& h) { return h.uv.norm() < reach; });
+      };
   }
   return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
-                   uncovered.empty() ? nullptr : &uncovered, o.birth_margin);
+                   uncovered.empty() ? nullptr : &uncovered, o.birth_margin, reached);
 }
 
 void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,

@@ -2,7 +2,8 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 8; version 7 had no projection-slack setting, version 6 no
+// Layout (version 9; version 8 had no birth-gap setting, version 7 no
+// projection-slack setting, version 6 no
 // birth-margin setting, version 5 no
 // distorted setting and no per-patch texture offset, recovery or last recut
 // frame, version 4 no kill-frames setting and no per-patch count of frames
@@ -36,7 +37,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 8;
+constexpr std::uint32_t kVersion = 9;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};

@@ -59,6 +59,20 @@ enum class Distorted {
   Fade,  ///< it fades out and the Poisson update replaces it (the paper)
 };
 
+/// Where the Poisson update measures a gap for a new disk after the first
+/// frame (Sec. 5.4, with the birth margin γ).
+enum class BirthGap {
+  /// The default (departure from the paper): a candidate is rejected within
+  /// (1 + γ)·d of an existing disk's centre in space, and also within
+  /// (1 + γ)·d of the centre of a live patch that covers it, measured in
+  /// that patch's uv. A patch the liquid stretches still shows its own disk
+  /// where its centre has moved away, so that gap seeds nothing until the
+  /// patch yields (relax-frames) or is recut, and a stretch the liquid
+  /// undoes leaves no extra disks behind.
+  Patches,
+  Centres,  ///< from the disk centres in space only (the paper's dart throwing)
+};
+
 inline constexpr EnumName<Criterion> kCriterionNames[] = {
     {Criterion::Ellipsoid, "ellipsoid"}, {Criterion::Sphere, "sphere"}, {Criterion::Plane, "plane"}};
 constexpr const auto& enum_names(Criterion) { return kCriterionNames; }
@@ -74,6 +88,9 @@ inline const char* to_string(DistortionTest t) { return enum_name(t); }
 inline constexpr EnumName<Distorted> kDistortedNames[] = {{Distorted::Recut, "recut"}, {Distorted::Fade, "fade"}};
 constexpr const auto& enum_names(Distorted) { return kDistortedNames; }
 inline const char* to_string(Distorted d) { return enum_name(d); }
+inline constexpr EnumName<BirthGap> kBirthGapNames[] = {{BirthGap::Patches, "patches"}, {BirthGap::Centres, "centres"}};
+constexpr const auto& enum_names(BirthGap) { return kBirthGapNames; }
+inline const char* to_string(BirthGap g) { return enum_name(g); }
 
 /// Tracking parameters (Tables 3 and 4). Lengths in scene units; the three
 /// lengths left unset are derived from the first frame (resolved()).
@@ -99,6 +116,7 @@ struct TrackingOptions {
   Fading fading = Fading::Flow;
   DistortionTest distortion_test = DistortionTest::Patch;
   Distorted distorted = Distorted::Recut;
+  BirthGap birth_gap = BirthGap::Patches;
 
   /// Every field as f(OptionInfo, field), in the order of --help, the config
   /// file and the state file's settings block (util/options.h).
@@ -213,6 +231,12 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "current surface and flattened anew, its texture kept in place) or fade (it fades out and a "
                        "new patch replaces it, the paper)"},
     o.distorted);
+  f(OptionInfo{.name = "birth-gap",
+               .help = "where a new disk's gap is measured after the first frame: patches (from the disk centres in "
+                       "space and, within (1 + gamma) x radius, in the uv of every live patch over the candidate, so "
+                       "a gap the liquid opens inside a stretched patch seeds nothing until the patch yields or is "
+                       "recut) or centres (in space only, the paper)"},
+    o.birth_gap);
 }
 
 }  // namespace fluidtex

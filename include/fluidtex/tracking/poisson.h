@@ -74,10 +74,18 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
 /// (1 + γ)·r instead of r (kept candidates still reject each other at r).
 /// Departure from the paper: births need a gap wider than the spacing a
 /// fresh distribution has, a hysteresis band against the kill distance.
+///
+/// `reached` (optional): reached(k) holds when candidate k lies within the
+/// reach of an existing patch's own disk, measured on that patch (the
+/// tracker: within (1 + γ)·r of its centre in its uv). Such a candidate is
+/// rejected like one an existing disk rejects, however far that disk's
+/// centre has moved away in space. Asked only of candidates nothing else
+/// rejects, and never of uncovered ones.
 std::vector<SurfaceSample> fill_gaps(const std::vector<SurfaceSample>& existing,
                                      const std::vector<SurfaceSample>& candidates, const SurfaceIndex& surface,
                                      const PoissonParams& params, double min_component_area,
-                                     const std::vector<char>* uncovered = nullptr, double margin = 0.0);
+                                     const std::vector<char>* uncovered = nullptr, double margin = 0.0,
+                                     const std::function<bool(std::size_t)>& reached = nullptr);
 
 /// Kill-distance flags (Sec. 5.4): visiting `disks` in order (callers pass
 /// them oldest first), a disk is flagged when an earlier, unflagged disk
