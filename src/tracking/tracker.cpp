@@ -322,9 +322,9 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
   const ScopedStage stage(report.seconds, "refill");
   const TrackingOptions& o = settings_.method;
   // Faces a refill patch was already centred on: one still bare after that
-  // cannot be covered by a patch of its own (a sliver folded against its
-  // vertex normals, which the patch's normal test leaves out), and as a
-  // candidate it would keep rejecting its neighbours' candidates.
+  // is not covered by a patch of its own (a sliver folded against its
+  // vertex normals, along which coverage is tested), and as a candidate it
+  // would keep rejecting its neighbours' candidates.
   std::vector<int> tried;
   for (int round = 0; round < kRefillRounds && !faces.empty(); ++round) {
     const PatchCoverage coverage(patches_, o.mpt());

@@ -156,8 +156,8 @@ class Tracker {
   /// lost to a nearer new disk whose patch the plane test cut short, or whose
   /// patch could not be built, leaves such faces. A patch covers its own
   /// centre's sample (its coverage tail reaches its border), except on a
-  /// sliver folded against its vertex normals, which the patch's normal test
-  /// leaves out: a face that had a refill disk is not a candidate again, so
+  /// sliver folded against its vertex normals (the coverage test looks
+  /// along them): a face that had a refill disk is not a candidate again, so
   /// that it does not keep rejecting its neighbours' disks. kRefillRounds
   /// rounds at most.
   void refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<int> faces, int frame,
