@@ -186,7 +186,12 @@ Vec3 SurfaceIndex::normal_at(const SurfacePoint& s) const {
   const Tri& t = mesh_->triangles[s.face];
   const Vec3 n = interpolate(vertex_normals_, t, s.bary);
   const double len = n.norm();
-  return len > 1e-12 ? Vec3(n / len) : face_normals_[s.face];
+  // A blend that vanishes or points behind the face (a face folded against
+  // its vertices' normals, as a crease of a re-meshed splash makes) is no
+  // normal of this point: the face's own is. A face without area has no
+  // normal of its own to judge the blend by.
+  const bool folded = face_areas_[s.face] > 0.0 && !(n.dot(face_normals_[s.face]) > 0.0);
+  return len > 1e-12 && !folded ? Vec3(n / len) : face_normals_[s.face];
 }
 
 Vec3 SurfaceIndex::velocity_at(const SurfacePoint& s) const {

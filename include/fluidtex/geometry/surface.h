@@ -47,7 +47,8 @@ class SurfaceIndex {
   SurfacePoint at(int face, const Vec3& bary) const;
 
   /// Unit normal at a surface point: barycentric blend of the area-weighted
-  /// vertex normals (falls back to the face normal where it degenerates).
+  /// vertex normals; the face normal where the blend degenerates or points
+  /// behind the face (a folded face, whose vertex normals face the other way).
   Vec3 normal_at(const SurfacePoint& s) const;
   /// Barycentric blend of the vertex velocities.
   Vec3 velocity_at(const SurfacePoint& s) const;
