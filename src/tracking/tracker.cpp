@@ -322,9 +322,11 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
   const ScopedStage stage(report.seconds, "refill");
   const TrackingOptions& o = settings_.method;
   // Faces a refill patch was already centred on: one still bare after that
-  // is not covered by a patch of its own (a sliver folded against its
-  // vertex normals, along which coverage is tested), and as a candidate it
-  // would keep rejecting its neighbours' candidates.
+  // is not covered by a patch of its own, and as a candidate it would keep
+  // rejecting its neighbours' candidates. (Blender-obstacle's folded face
+  // on frame 20 was one while coverage looked along the vertex normals'
+  // blend, which points behind it; SurfaceIndex::normal_at now gives it its
+  // own normal.)
   std::vector<int> tried;
   for (int round = 0; round < kRefillRounds && !faces.empty(); ++round) {
     const PatchCoverage coverage(patches_, o.mpt());
