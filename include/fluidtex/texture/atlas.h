@@ -30,7 +30,7 @@ struct AtlasOptions {
   double normal_cone = 0.85;           ///< faces join a chart while N_f·N_seed > this
   std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
   double max_stretch = 1.5;            ///< charts with a larger mean area stretch are cut smaller
-  double min_fill = 0.6;               ///< charts covering less of their bounding box are cut smaller (packing)...
+  double min_fill = 0.5;               ///< charts covering less of their bounding box are cut smaller (packing)...
   std::size_t min_fill_faces = 64;     ///< ...unless they have at most this many faces
 
   /// The fields a user sets, as f(OptionInfo, field) (util/options.h).
