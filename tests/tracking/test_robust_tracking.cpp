@@ -259,11 +259,11 @@ TEST(RealData, ObstacleSplashDropletsAreCovered) {
 TEST(RealData, ObstacleFoldedFaceIsCovered) {
   const auto cut = track_real("obstacle", "1-20");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Frame 20 has a folded face (8.5e-6 of the area): its vertex normals
-  // point to both sides, and their blend points behind it over part of the
-  // face. Coverage, tested along that blend, found 1.1e-7 of the area bare
-  // through every refill round; along the face's own normal
-  // (SurfaceIndex::normal_at) the patches around it cover it.
+  // Frame 20 has a folded face (8.5e-6 m², a millionth of the surface): its
+  // vertex normals point to both sides, and their blend points behind it
+  // over part of the face. Coverage, tested along that blend, found 1.1e-7
+  // of the area bare through every refill round; along the face's own
+  // normal (SurfaceIndex::normal_at) the patches around it cover it.
   EXPECT_EQ(cut->uncovered_max, 0.0);
 }
 
