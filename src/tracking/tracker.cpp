@@ -323,10 +323,10 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
   const TrackingOptions& o = settings_.method;
   // Faces a refill patch was already centred on: one still bare after that
   // is not covered by a patch of its own, and as a candidate it would keep
-  // rejecting its neighbours' candidates. (Blender-obstacle's folded face
-  // on frame 20 was one while coverage looked along the vertex normals'
-  // blend, which points behind it; SurfaceIndex::normal_at now gives it its
-  // own normal.)
+  // rejecting its neighbours' candidates. Blender-obstacle's torn sheet
+  // (frames 14 and 16 of the cut 12-22) still has such faces; its folded
+  // face on frame 20 was one until SurfaceIndex::normal_at gave it its own
+  // normal instead of the vertex normals' blend, which points behind it.
   std::vector<int> tried;
   for (int round = 0; round < kRefillRounds && !faces.empty(); ++round) {
     const PatchCoverage coverage(patches_, o.mpt());

@@ -155,11 +155,10 @@ class Tracker {
   /// fades in from this frame. A disk that
   /// lost to a nearer new disk whose patch the plane test cut short, or whose
   /// patch could not be built, leaves such faces. A patch covers its own
-  /// centre's sample (its coverage tail reaches its border); should one not
-  /// (as a folded face did while its normal was the vertex normals' blend,
-  /// which points behind it), a face that had a refill disk is not a
-  /// candidate again, so that it does not keep rejecting its neighbours'
-  /// disks. kRefillRounds rounds at most.
+  /// centre's sample (its coverage tail reaches its border) almost always;
+  /// where one does not (a droplet of a torn sheet, as on blender-obstacle),
+  /// a face that had a refill disk is not a candidate again, so that it does
+  /// not keep rejecting its neighbours' disks. kRefillRounds rounds at most.
   void refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<int> faces, int frame,
                          StepReport& report);
   static constexpr int kRefillRounds = 3;
