@@ -1,7 +1,9 @@
 #include "fluidtex/geometry/mesh.h"
 
+#include <algorithm>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -79,19 +81,70 @@ int face_components(const FrameMesh& mesh, std::vector<int>& component_of_face) 
   return count;
 }
 
-bool slab_extent(const std::array<Vec2, 3>& t, int axis, double s0, double s1, double& lo, double& hi) {
+namespace {
+
+/// `a` if it lies in the slab, and where a→b crosses the slab's lines,
+/// computed from `a`.
+void edge_in_slab(const Vec2& a, const Vec2& b, int axis, double s0, double s1, double& lo, double& hi) {
   const int other = 1 - axis;
-  lo = std::numeric_limits<double>::infinity(), hi = -lo;
   const auto take = [&](double v) { lo = std::min(lo, v), hi = std::max(hi, v); };
-  for (int k = 0; k < 3; ++k) {
-    const Vec2 &a = t[k], &b = t[(k + 1) % 3];
-    if (a[axis] >= s0 && a[axis] <= s1) take(a[other]);
-    for (const double s : {s0, s1}) {
-      if ((a[axis] < s && b[axis] > s) || (a[axis] > s && b[axis] < s))
-        take(a[other] + (s - a[axis]) / (b[axis] - a[axis]) * (b[other] - a[other]));
+  if (a[axis] >= s0 && a[axis] <= s1) take(a[other]);
+  for (const double s : {s0, s1}) {
+    if ((a[axis] < s && b[axis] > s) || (a[axis] > s && b[axis] < s))
+      take(a[other] + (s - a[axis]) / (b[axis] - a[axis]) * (b[other] - a[other]));
+  }
+}
+
+}  // namespace
+
+void segment_slab_extent(const Vec2& a, const Vec2& b, int axis, double s0, double s1, double& lo, double& hi) {
+  edge_in_slab(a, b, axis, s0, s1, lo, hi);
+  if (b[axis] >= s0 && b[axis] <= s1) lo = std::min(lo, b[1 - axis]), hi = std::max(hi, b[1 - axis]);
+}
+
+bool slab_extent(const std::array<Vec2, 3>& t, int axis, double s0, double s1, double& lo, double& hi) {
+  lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int k = 0; k < 3; ++k) edge_in_slab(t[k], t[(k + 1) % 3], axis, s0, s1, lo, hi);
+  return lo <= hi;
+}
+
+FlatOutline flat_outline(const std::vector<Tri>& tris, const std::vector<std::array<Vec2, 3>>& corners) {
+  FlatOutline out;
+  std::vector<double> area(tris.size());
+  double orientation = 0.0;
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    area[i] = signed_area(corners[i][0], corners[i][1], corners[i][2]);
+    orientation += area[i];
+  }
+  struct Edge {
+    int lo, hi, edge;
+    bool forward;
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * tris.size());
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    if (!(area[i] * orientation > 0.0)) {
+      out.loose_faces.push_back(static_cast<int>(i));
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int a = tris[i][k], b = tris[i][(k + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b), static_cast<int>(3 * i) + k, a < b});
     }
   }
-  return lo <= hi;
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& x, const Edge& y) { return std::tie(x.lo, x.hi, x.edge) < std::tie(y.lo, y.hi, y.edge); });
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    const bool inner = j - i == 2 && edges[i].forward != edges[i + 1].forward;
+    if (!inner) {
+      for (std::size_t k = i; k < j; ++k) out.border_edges.push_back(edges[k].edge);
+    }
+    i = j;
+  }
+  std::sort(out.border_edges.begin(), out.border_edges.end());
+  return out;
 }
 
 }  // namespace fluidtex

@@ -27,6 +27,7 @@ namespace {
 struct FlatChart {
   std::vector<std::array<Vec2, 3>> corners;  // per face of the chart
   Vec2 min = Vec2::Zero(), max = Vec2::Zero();
+  FlatOutline outline;  // what bounds it: the packer's profiles are made from it
 };
 
 /// Flattens one chart: LSCM over its faces, then principal-axis rotation so
@@ -66,6 +67,7 @@ bool flatten_chart(const FrameMesh& mesh, const std::vector<int>& faces, FlatCha
     }
   }
   stretch = total > 0.0 ? weighted / total : 1.0;  // area-weighted mean
+  out.outline = flat_outline(disk.triangles, out.corners);
   return true;
 }
 
@@ -92,6 +94,7 @@ FlatChart flat_face(const FrameMesh& mesh, int f) {
   out.corners = {{Vec2(0, 0), Vec2((b - a).norm(), 0), Vec2((c - a).dot(x), (c - a).dot(y))}};
   out.min = out.corners[0][0].cwiseMin(out.corners[0][1]).cwiseMin(out.corners[0][2]);
   out.max = out.corners[0][0].cwiseMax(out.corners[0][1]).cwiseMax(out.corners[0][2]);
+  out.outline.loose_faces = {0};
   return out;
 }
 
@@ -131,20 +134,31 @@ Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, in
   const int cols = (out.extent.x() + cell - 1) / cell;
   std::vector<double> lo(cols, std::numeric_limits<double>::max()), hi(cols, std::numeric_limits<double>::lowest());
   const double g = gutter + 0.5;  // where the footprint starts in its box (texel centres at +0.5)
-  for (const auto& corners : fc.corners) {
-    std::array<Vec2, 3> t;
-    for (int k = 0; k < 3; ++k) t[k] = turn(fc, r, corners[k]) * density + Vec2::Constant(g);
-    const double xmin = std::min({t[0].x(), t[1].x(), t[2].x()}), xmax = std::max({t[0].x(), t[1].x(), t[2].x()});
+  auto place = [&](const Vec2& p) { return Vec2(turn(fc, r, p) * density + Vec2::Constant(g)); };
+  // Widens the columns' extents by `extent(s0, s1, y0, y1)` over the columns
+  // that x range [xmin, xmax] reaches (gutter included).
+  auto add = [&](double xmin, double xmax, auto&& extent) {
     const int c0 = std::max(0, static_cast<int>(std::floor((xmin - gutter) / cell)));
     const int c1 = std::min(cols - 1, static_cast<int>(std::floor((xmax + gutter) / cell)));
     for (int c = c0; c <= c1; ++c) {
-      double y0, y1;
-      if (!slab_extent(t, 0, static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0,
-                       y1))
-        continue;
+      double y0 = std::numeric_limits<double>::infinity(), y1 = -y0;
+      extent(static_cast<double>(c) * cell - gutter, static_cast<double>(c + 1) * cell + gutter, y0, y1);
+      if (!(y0 <= y1)) continue;
       lo[c] = std::min(lo[c], y0);
       hi[c] = std::max(hi[c], y1);
     }
+  };
+  for (const int e : fc.outline.border_edges) {
+    const auto& corners = fc.corners[e / 3];
+    const Vec2 a = place(corners[e % 3]), b = place(corners[(e % 3 + 1) % 3]);
+    add(std::min(a.x(), b.x()), std::max(a.x(), b.x()),
+        [&](double s0, double s1, double& y0, double& y1) { segment_slab_extent(a, b, 0, s0, s1, y0, y1); });
+  }
+  for (const int f : fc.outline.loose_faces) {
+    std::array<Vec2, 3> t;
+    for (int k = 0; k < 3; ++k) t[k] = place(fc.corners[f][k]);
+    add(std::min({t[0].x(), t[1].x(), t[2].x()}), std::max({t[0].x(), t[1].x(), t[2].x()}),
+        [&](double s0, double s1, double& y0, double& y1) { slab_extent(t, 0, s0, s1, y0, y1); });
   }
   out.bottom.assign(cols, 1);
   out.top.assign(cols, 0);

@@ -45,6 +45,28 @@ inline double triangle_area(const std::vector<Vec2>& points, const Tri& t) {
 /// slab's two lines.
 bool slab_extent(const std::array<Vec2, 3>& t, int axis, double s0, double s1, double& lo, double& hi);
 
+/// The same for the segment a→b, widening `lo`, `hi` (start them empty:
+/// lo = +inf, hi = -inf). The crossings are computed from `a`, as
+/// `slab_extent` does along a triangle's edge a→b, so the triangle's
+/// extent is exactly the union of its three edges'.
+void segment_slab_extent(const Vec2& a, const Vec2& b, int axis, double s0, double s1, double& lo, double& hi);
+
+/// What bounds a triangle mesh laid in the plane (a chart): the extent of
+/// its faces in any slab, the union of theirs, is reached on the border of
+/// that union. Where the faces keep one orientation, two faces meeting at an
+/// edge lie on its two sides and cover every point of it and of the corners
+/// inside, so the border is among the edges of one face only (or of three
+/// or more, or of two turned the same way) and the edges of the faces turned
+/// against the others or flat. A disk of n faces has about √n such edges.
+struct FlatOutline {
+  std::vector<int> border_edges;  ///< face·3 + k: corner k → corner k + 1 of that face, ascending
+  std::vector<int> loose_faces;   ///< faces turned against the mesh's orientation, or flat, ascending
+};
+
+/// The outline of the faces `tris` (vertex indices) laid at `corners`
+/// (per face, its corners' flat positions; one position per vertex).
+FlatOutline flat_outline(const std::vector<Tri>& tris, const std::vector<std::array<Vec2, 3>>& corners);
+
 /// Area of the 3D triangle (a, b, c).
 inline double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
 
