@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 
 #include <oneapi/tbb/parallel_for.h>
@@ -285,32 +286,65 @@ std::vector<std::vector<int>> grow_charts(const SurfaceIndex& surface, const std
   return charts;
 }
 
+/// A chart that failed, cut into disks of at most half its faces: each
+/// grown from the first face left in order of `key` (lowest first) over the
+/// chart's faces left, lowest key first, until every face has a piece.
+/// `owner`: per surface face, scratch (the chart's faces are marked `tag`).
+std::vector<std::vector<int>> split_chart(const SurfaceIndex& surface, const std::vector<int>& faces,
+                                          const std::vector<double>& key, std::vector<int>& owner, int tag) {
+  for (int f : faces) owner[f] = tag;
+  std::vector<int> order = faces;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return std::tie(key[a], a) < std::tie(key[b], b); });
+  DiskRegionOptions region;
+  region.accept = [&](int f) { return owner[f] == tag; };
+  region.priority = [&](int f) { return key[f]; };
+  region.max_faces = std::max<std::size_t>(1, faces.size() / 2);
+  std::vector<std::vector<int>> pieces;
+  for (int seed : order) {
+    if (owner[seed] != tag) continue;
+    std::vector<int> piece = grow_disk_region(surface, seed, region);
+    for (int f : piece) owner[f] = -1;
+    pieces.push_back(std::move(piece));
+  }
+  return pieces;
+}
+
 /// Steps 1–2: segment into disk-like charts bounded by a normal cone,
-/// flatten each (in parallel, each into its own slot), and segment again,
-/// smaller, the faces of charts LSCM could not flatten or flattened with too
-/// much area distortion; single faces are always flat.
+/// flatten each (in parallel, each into its own slot), and cut in two
+/// (split_chart) every chart LSCM could not flatten, flattened with too much
+/// area distortion, or that fills less than min_fill of its box; its pieces
+/// are flattened and tested in the next round. A flattened chart is cut
+/// across its long side (the pieces are swept from one end, a sweep the
+/// disk growth keeps whole), one LSCM could not flatten by distance from its
+/// seed. Each piece has at most half its chart's faces, and a single face is
+/// always flat, so the rounds end.
 FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& options) {
   const FrameMesh& mesh = surface.mesh();
   const std::size_t nf = mesh.triangles.size();
   FlatCharts out;
-  std::vector<int> pending(nf);
-  std::iota(pending.begin(), pending.end(), 0);
-  std::size_t max_faces = options.max_chart_faces;
+  std::vector<int> all(nf);
+  std::iota(all.begin(), all.end(), 0);
   std::vector<char> assigned(nf, 0);
-  while (!pending.empty()) {
-    std::vector<std::vector<int>> chart_faces = grow_charts(surface, pending, assigned, max_faces, options);
+  std::vector<std::vector<int>> chart_faces = grow_charts(surface, all, assigned, options.max_chart_faces, options);
+  std::vector<double> key(nf, 0.0);
+  std::vector<int> owner(nf, -1);
+  int tag = 0;
+  while (!chart_faces.empty()) {
     std::vector<FlatChart> flat(chart_faces.size());
     std::vector<double> stretch(chart_faces.size(), 1.0);
-    std::vector<char> ok(chart_faces.size(), 1);
+    std::vector<char> flattened(chart_faces.size(), 1), ok(chart_faces.size(), 1);
     tbb::parallel_for(std::size_t(0), chart_faces.size(), [&](std::size_t c) {
-      if (chart_faces[c].size() == 1)
+      if (chart_faces[c].size() == 1) {
         flat[c] = flat_face(mesh, chart_faces[c][0]);
-      else
-        ok[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]) && stretch[c] <= options.max_stretch &&
-                (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
+        return;
+      }
+      flattened[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]);
+      ok[c] = flattened[c] && stretch[c] <= options.max_stretch &&
+              (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
     });
-    pending.clear();
+    std::vector<std::vector<int>> next;
     for (std::size_t c = 0; c < chart_faces.size(); ++c) {
+      const std::vector<int>& faces = chart_faces[c];
       if (ok[c]) {
         out.faces.push_back(std::move(chart_faces[c]));
         out.flat.push_back(std::move(flat[c]));
@@ -318,13 +352,19 @@ FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& 
         continue;
       }
       ++out.failed;
-      for (int f : chart_faces[c]) {
-        assigned[f] = 0;
-        pending.push_back(f);
+      if (flattened[c]) {
+        const FlatChart& fc = flat[c];
+        const int axis = fc.max.x() - fc.min.x() >= fc.max.y() - fc.min.y() ? 0 : 1;
+        for (std::size_t i = 0; i < faces.size(); ++i) {
+          key[faces[i]] = fc.corners[i][0][axis] + fc.corners[i][1][axis] + fc.corners[i][2][axis];
+        }
+      } else {
+        const Vec3 seed = mesh.positions[mesh.triangles[faces[0]][0]];
+        for (int f : faces) key[f] = (mesh.positions[mesh.triangles[f][0]] - seed).squaredNorm();
       }
+      for (std::vector<int>& piece : split_chart(surface, faces, key, owner, tag++)) next.push_back(std::move(piece));
     }
-    std::sort(pending.begin(), pending.end());
-    max_faces = std::max<std::size_t>(1, max_faces / 4);
+    chart_faces = std::move(next);
   }
   return out;
 }

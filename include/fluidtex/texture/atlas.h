@@ -11,8 +11,10 @@
 /// common texel density (world units per texel, so detail is even across the
 /// surface) and packed by shape (a horizon per column of cells, four
 /// rotations: Lévy et al. 2002, Sec. 5) into a square of `size` texels with a
-/// gutter between charts. Charts covering less than `min_fill` of their
-/// bounding box are cut smaller first. The density is the largest that fits.
+/// gutter between charts. A chart LSCM cannot flatten, that it stretches
+/// beyond `max_stretch` or that covers less than `min_fill` of its bounding
+/// box is cut in two across its long side first, and its pieces tested
+/// again. The density is the largest that fits.
 #pragma once
 
 #include <array>
@@ -29,8 +31,8 @@ struct AtlasOptions {
   int gutter = 4;                      ///< empty texels around each chart (filled by dilation)
   double normal_cone = 0.85;           ///< faces join a chart while N_f·N_seed > this
   std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
-  double max_stretch = 1.5;            ///< charts with a larger mean area stretch are cut smaller
-  double min_fill = 0.5;               ///< charts covering less of their bounding box are cut smaller (packing)...
+  double max_stretch = 1.5;            ///< charts with a larger mean area stretch are cut in two
+  double min_fill = 0.5;               ///< charts covering less of their bounding box are cut in two (packing)...
   std::size_t min_fill_faces = 64;     ///< ...unless they have at most this many faces
 
   /// The fields a user sets, as f(OptionInfo, field) (util/options.h).
