@@ -9,12 +9,13 @@
 #     the paper's per-vertex rules, on every scene;
 # and evaluates the default run of every generated scene.
 # Every run is evaluated with `fluidtex eval`; the tables are printed as
-# Markdown. Usage: scripts/compare.sh [OUTDIR]   (FRAMES=40 by default)
+# Markdown. Usage: scripts/compare.sh [OUTDIR]   (FRAMES=40 by default;
+# FLUIDTEX=PATH runs another build than build/fluidtex)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/compare}
 frames=${FRAMES:-40}
-bin=build/fluidtex
+bin=${FLUIDTEX:-build/fluidtex}  # FLUIDTEX=PATH: another build
 mkdir -p "$out"
 
 gen() {  # scene resolution
