@@ -568,10 +568,13 @@ void texture_metrics(const TexturedFrame& frame, const TrackingOptions& resolved
       exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
   double spectrum = std::nan("");
   for (int n : {64, 32, 16}) {
-    const auto windows = chart_windows(mask, frame.atlas.width, n, 8);
+    // 64 windows a frame and 32 exemplar crops: with 8 of each (until
+    // 2026-12-04, session 25) a frame's figure depended on which 8 places of
+    // the surface the chart layout put first in scan order.
+    const auto windows = chart_windows(mask, frame.atlas.width, n, 64);
     if (windows.empty() || !(scale > 0.0)) continue;
     std::vector<double> reference(n / 2 - 1, 0.0);
-    const int crops = 8;
+    const int crops = 32;
     for (int k = 0; k < crops; ++k) {
       const Image crop =
           exemplar_crop(exemplar, exemplar.image().width * (0.37 * k), exemplar.image().height * (0.61 * k), scale, n);
