@@ -8,6 +8,7 @@
 # docs/results.md ("Real simulation caches").
 #   scripts/realdata_compare.sh [OUTDIR]
 #   ATLAS=2048 (atlas size)  SCENES="slosh drop obstacle"  FRAMES_slosh=1-48 ...
+#   VARIANTS="patches flowmap" (default: all five)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/realdata}
@@ -18,9 +19,11 @@ exemplar=data/gravel.png
 mkdir -p "$out"
 [[ -d $data ]] || { echo "no real data at $data" >&2; exit 2; }
 
+variants=" ${VARIANTS:-patches elastic paper flowmap advect} "
 run() {  # name scene [run options...]
   local name=$1 scene=$2
   shift 2
+  [[ $variants == *" ${name#"$scene"-} "* ]] || return 0
   local pattern="$data/blender-$scene/$scene.####.ply"
   local frames_var="FRAMES_$scene" frames=()
   [[ -n ${!frames_var:-} ]] && frames=(--frames "${!frames_var}")
