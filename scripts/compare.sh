@@ -26,8 +26,8 @@ run() {  # name scene [run options...]
   local name=$1 scene=$2
   shift 2
   if [[ ! -f "$out/$name/eval/summary.json" ]]; then
-    "$bin" run -q -i "$out/$scene/$scene.####.ply" -e "$out/$scene/gravel.png" -o "$out/$name" \
-      --atlas-size 1024 "$@"
+    /usr/bin/time -f "%e" -o "$out/$name.time" "$bin" run -q -i "$out/$scene/$scene.####.ply" \
+      -e "$out/$scene/gravel.png" -o "$out/$name" --atlas-size 1024 "$@"
     "$bin" eval -q -i "$out/$scene/$scene.####.ply" -o "$out/$name"
   fi
 }
