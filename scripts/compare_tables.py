@@ -43,7 +43,7 @@ def main():
           [("patches", "patches"), ("uncovered area", "uncovered_area_mean"), ("uncovered texels", "uncovered_texels_mean"),
            ("ghosting mean", "ghosting_mean"), ("D_T median", "distortion_median"), ("D_T p95", "distortion_p95"),
            ("Q_V < 0.5", "quality_below_half"), ("warp: advected", "warp_advected"), ("warp: random", "warp_random"),
-           ("flow EPE px", "flow_endpoint_px"), ("|v| px", "flow_speed_px")])
+           ("flow EPE px", "flow_endpoint_px"), ("speed px", "flow_speed_px")])
     table(out, "Density-based vs linear fading (Fig. 7)",
           ["split-patches", "split-linear-fading", "drop-patches", "drop-linear-fading"],
           [("patches", "patches"), ("fading out (close)", "fading_out_close"),
@@ -60,7 +60,7 @@ def main():
     table(out, "Texture–flow agreement (Figs. 8, 9, 15) and the flow-map baseline",
           ["rotation-patches", "rotation-flowmap", "split-patches", "split-flowmap", "drop-patches"],
           [("warp: advected", "warp_advected"), ("warp: not moving", "warp_fixed"), ("warp: random", "warp_random"),
-           ("flow EPE px", "flow_endpoint_px"), ("|v| px", "flow_speed_px"), ("flow AE deg", "flow_angular_deg"),
+           ("flow EPE px", "flow_endpoint_px"), ("speed px", "flow_speed_px"), ("flow AE deg", "flow_angular_deg"),
            ("σ ratio G", "contrast_g"), ("spectrum distance", "spectrum_distance")])
 
 
