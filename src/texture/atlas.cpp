@@ -257,28 +257,28 @@ struct FlatCharts {
   std::vector<std::vector<int>> faces;
   std::vector<FlatChart> flat;
   std::vector<double> stretch;
-  int failed = 0;  ///< charts cut smaller because LSCM failed or distorted them
+  int failed = 0;  ///< charts cut in two (LSCM failed, too much stretch, too little of the box filled)
 };
 
-/// Disk-like charts grown from every unassigned face of `pending` (lowest
-/// first) over faces within the normal cone of the seed, nearest first.
-std::vector<std::vector<int>> grow_charts(const SurfaceIndex& surface, const std::vector<int>& pending,
-                                          std::vector<char>& assigned, std::size_t max_faces,
-                                          const AtlasOptions& options) {
+/// Disk-like charts of at most max_chart_faces, grown from every face not in
+/// a chart yet (lowest first) over faces within the normal cone of the
+/// seed, nearest first.
+std::vector<std::vector<int>> grow_charts(const SurfaceIndex& surface, const AtlasOptions& options) {
   const FrameMesh& mesh = surface.mesh();
   auto centroid = [&](int f) {
     const Tri& t = mesh.triangles[f];
     return Vec3((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0);
   };
+  std::vector<char> assigned(mesh.triangles.size(), 0);
   std::vector<std::vector<int>> charts;
-  for (int seed : pending) {
+  for (int seed = 0; seed < static_cast<int>(mesh.triangles.size()); ++seed) {
     if (assigned[seed]) continue;
     const Vec3 n0 = surface.face_normals()[seed];
     const Vec3 c0 = centroid(seed);
     DiskRegionOptions region;
     region.accept = [&](int f) { return !assigned[f] && surface.face_normals()[f].dot(n0) > options.normal_cone; };
     region.priority = [&](int f) { return (centroid(f) - c0).squaredNorm(); };
-    region.max_faces = max_faces;
+    region.max_faces = options.max_chart_faces;
     std::vector<int> faces = grow_disk_region(surface, seed, region);
     for (int f : faces) assigned[f] = 1;
     charts.push_back(std::move(faces));
@@ -322,10 +322,7 @@ FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& 
   const FrameMesh& mesh = surface.mesh();
   const std::size_t nf = mesh.triangles.size();
   FlatCharts out;
-  std::vector<int> all(nf);
-  std::iota(all.begin(), all.end(), 0);
-  std::vector<char> assigned(nf, 0);
-  std::vector<std::vector<int>> chart_faces = grow_charts(surface, all, assigned, options.max_chart_faces, options);
+  std::vector<std::vector<int>> chart_faces = grow_charts(surface, options);
   std::vector<double> key(nf, 0.0);
   std::vector<int> owner(nf, -1);
   int tag = 0;
