@@ -2,7 +2,8 @@
 """Patch churn of fluidtex runs, from their stats.jsonl (run or --track-only).
 
 Usage: churn.py RUN_DIR [RUN_DIR ...]
-Per run: births per frame over live patches (mean over frames 2..), the share
+Per run: births per frame over live patches (mean over frames 2..; a line of a
+stepped run (1-72x2) covers the frames since the previous one), the share
 of active patches after frame 24, the patch count per unit surface area
 relative to the first frame (max), uncovered surface (max), seconds per
 frame, and the patches retired by rule (totals) and by age.
@@ -24,7 +25,8 @@ def main(runs):
     for run in runs:
         rows = load(run)
         live = [sum(r["patches"].values()) for r in rows]
-        births = [r.get("patches_created", 0) / max(1, n) for r, n in zip(rows[1:], live[1:])]
+        births = [r.get("patches_created", 0) / (r["frame"] - q["frame"]) / max(1, n)
+                  for q, r, n in zip(rows, rows[1:], live[1:])]
         late = [r["patches"]["active"] / max(1, n) for r, n in zip(rows, live) if r["frame"] > 24]
         dens = [n / r["surface_area"] for r, n in zip(rows, live) if r.get("surface_area")]
         ratio = max(d / dens[0] for d in dens) if dens else float("nan")

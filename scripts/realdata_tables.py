@@ -43,7 +43,8 @@ def main(out):
         px_speed = sum(r["flow_slow_speed_px"] for r in px)
         flow_px = sum(r["flow_slow_endpoint_px"] for r in px) / px_speed if px_speed > 0 else float("nan")
         live = [sum(s["patches"].values()) for s in stats]
-        births = [s.get("patches_created", 0) / n for s, n in zip(stats[1:], live[1:]) if n]
+        births = [s.get("patches_created", 0) / (s["frame"] - q["frame"]) / n  # per frame (a stepped run: 1-72x2)
+                  for q, s, n in zip(stats, stats[1:], live[1:]) if n]
         late = [s["patches"]["active"] / n for s, n in zip(stats, live) if n and s["frame"] - stats[0]["frame"] >= 24]
         def mean(key):
             v = [r[key] for r in m if r.get(key) is not None]

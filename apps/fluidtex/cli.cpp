@@ -187,11 +187,13 @@ CLI::Option* add_table_option(CLI::App* cmd, const OptionRef& ref) {
   return op;
 }
 
-/// Options every subcommand reading a sequence shares. `preview` reads the
-/// input only for its overlays: -i is optional there and --frames is its own.
+/// Options every subcommand reading a sequence shares (--skipped-frames is
+/// run's alone). `preview` reads the input only for its overlays: -i is
+/// optional there and --frames is its own.
 void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
   InputOptions::for_each_option(in, [&](OptionInfo info, auto& field) {
     const std::string name = info.name;
+    if (name == "skipped-frames") return;
     if (preview && name == "frames") return;
     if (preview && name == "input") info.help = "The run's input frame pattern (needed by --overlay)";
     add_table_option(cmd, bind_option(info, field));

@@ -44,6 +44,25 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
   }
 }
 
+std::vector<int> Sequence::followed_frames() const {
+  if (options_.skipped_frames == SkippedFrames::Ignore || frames_.size() < 2) return frames_;
+  std::vector<int> on_disk = pattern_.discover();
+  std::erase_if(on_disk, [&](int f) {
+    std::error_code ec;
+    return !std::filesystem::is_regular_file(pattern_.path(f), ec) ||
+           (velocity_pattern_ && !std::filesystem::is_regular_file(velocity_pattern_->path(f), ec));
+  });
+  std::vector<int> followed;
+  followed.reserve(frames_.size());
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    followed.push_back(frames_[i]);
+    if (i + 1 == frames_.size()) break;
+    auto between = std::upper_bound(on_disk.begin(), on_disk.end(), frames_[i]);
+    for (; between != on_disk.end() && *between < frames_[i + 1]; ++between) followed.push_back(*between);
+  }
+  return followed;
+}
+
 namespace {
 
 /// --velocity-from-positions reads vertex i of two frames as one point of

@@ -1,11 +1,13 @@
 #include "fluidtex/job/pipeline.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <utility>
 
 #include <oneapi/tbb/parallel_pipeline.h>
 
@@ -222,6 +224,7 @@ namespace {
 struct Work {
   std::size_t index = 0;
   int frame = 0;
+  bool written = true;  // false: a frame a stepped range skips, followed but not textured (--skipped-frames)
   Clock::time_point started = Clock::now();
   std::shared_ptr<const FrameMesh> mesh;
   FrameStats stats;
@@ -235,7 +238,8 @@ struct Work {
 };
 
 /// A texturing method as the pipeline drives it: `track` runs serially in
-/// frame order and fills the frame's snapshot, `texture` runs in parallel on
+/// frame order and fills the frame's snapshot (only for a written frame: a
+/// followed one is tracked and nothing more), `texture` runs in parallel on
 /// a snapshot, `finish` runs serially in frame order after the frame's
 /// outputs are written.
 class Texturing {
@@ -258,9 +262,20 @@ class PatchTexturing final : public Texturing {
         last_state_(std::move(resumed_state)) {}
 
   void track(Work& work, double dt, bool first, Reporter& reporter) override {
-    const StepReport step = tracker_.step(work.mesh, work.frame, dt);
+    StepReport step = tracker_.step(work.mesh, work.frame, dt);
     FrameStats& fs = work.stats;
     for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+    if (!work.written) {
+      add_counters(followed_, step);
+      return;
+    }
+    // A written frame's counters (and state) cover every step since the
+    // previous written frame.
+    tracker_.prepend_retired(followed_.retired);
+    add_counters(followed_, step);
+    followed_.counts = step.counts;
+    followed_.patch_vertices = step.patch_vertices;
+    step = std::exchange(followed_, {});
     fs.patches = step.counts;
     fs.extra.emplace_back("patches_created", step.created);
     fs.extra.emplace_back("patches_refilled", step.refilled);
@@ -318,6 +333,19 @@ class PatchTexturing final : public Texturing {
   std::size_t failed() const override { return failed_; }
 
  private:
+  /// Adds the counters of `next` (the step after those summed in `sum`) to `sum`.
+  static void add_counters(StepReport& sum, const StepReport& next) {
+    sum.created += next.created;
+    sum.refilled += next.refilled;
+    sum.relaxed += next.relaxed;
+    sum.recut += next.recut;
+    for (int c = 0; c < kRetireCauses; ++c) sum.recut_causes[c] += next.recut_causes[c];
+    sum.removed += next.removed;
+    sum.lost += next.lost;
+    sum.failed += next.failed;
+    sum.retired.insert(sum.retired.end(), next.retired.begin(), next.retired.end());
+  }
+
   void write_debug_views(Work& work) const {
     const ScopedStage stage(work.stats.seconds, "debug");
     const std::string dir = options_.output.dir + "/debug";
@@ -331,6 +359,7 @@ class PatchTexturing final : public Texturing {
   bool write_state_;
   mutable std::string last_state_;  // finish() runs serially, in frame order
   std::size_t failed_ = 0;
+  StepReport followed_;  // the counters of the steps into frames followed since the last written one
 };
 
 /// The two-phase advected-uv baseline: its "track" stage carries the two uv
@@ -343,6 +372,7 @@ class FlowMapTexturing final : public Texturing {
   void track(Work& work, double dt, bool first, Reporter& reporter) override {
     const FlowMapStep step = advector_.step(work.mesh, dt);
     for (const auto& [stage, secs] : step.seconds) work.stats.seconds.emplace_back(stage, secs);
+    if (!work.written) return;
     const std::array<double, 2> w = phase_weights(step.step, options_.flowmap.period);
     work.stats.extra.emplace_back("weight_a", w[0]);
     work.stats.extra.emplace_back("weight_b", w[1]);
@@ -376,13 +406,15 @@ class FlowMapTexturing final : public Texturing {
 };
 
 /// The patch method's tracker: from the newest state in OUT with --resume
-/// (its frame index + 1 in `first`, its frame in `summary`), else fresh.
-Tracker start_tracker(const JobOptions& options, const Sequence& sequence, Reporter& reporter, std::size_t& first,
-                      JobSummary& summary, std::string& resumed_state) {
+/// (its index in `sequence` + 1 in `first`, its frame in `summary`), else
+/// fresh. `written[i]`: frame i of `sequence` is written (has a state).
+Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const std::vector<char>& written,
+                      Reporter& reporter, std::size_t& first, JobSummary& summary, std::string& resumed_state) {
   if (options.output.resume) {
     // The newest state whose frame is in the sequence: every output of that
     // frame was written before it (the state is written last).
     for (std::size_t i = sequence.size(); i-- > 0;) {
+      if (!written[i]) continue;
       const std::string path = state_path(options.output.dir, sequence.frames()[i]);
       if (!std::filesystem::exists(path)) continue;
       auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
@@ -405,11 +437,12 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, Repor
 }
 
 /// Reads frame `index` of the sequence (cleaned) into a new Work.
-std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, const JobOptions& options,
+std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, bool written, const JobOptions& options,
                                  Reporter& reporter) {
   auto work = std::make_shared<Work>();
   work->index = index;
   work->frame = sequence.frames()[index];
+  work->written = written;
   work->stats.method = to_string(options.method);
   work->mesh = read_frame_mesh(sequence, index, work->stats, reporter);
   return work;
@@ -436,6 +469,16 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
 }
 
 namespace {
+
+/// Adds `secs` to `stage`'s entry of `seconds` (appended when it has none).
+void add_seconds(StageSeconds& seconds, const std::string& stage, double secs) {
+  const auto at = std::find_if(seconds.begin(), seconds.end(), [&](const auto& kv) { return kv.first == stage; });
+  if (at == seconds.end()) {
+    seconds.emplace_back(stage, secs);
+  } else {
+    at->second += secs;
+  }
+}
 
 /// The job record this run writes, once the output folder is its own: with
 /// --resume the job in OUT must be this one (check_resumable); without, OUT
@@ -465,10 +508,24 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   // A run owns its whole folder: other machines' temporaries go too.
   if (const std::size_t stale = remove_interrupted_temporaries(options, [](const std::string&) { return true; }))
     reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
-  const Sequence sequence(options.input);
+  const Sequence written_frames(options.input);
+  // The frames stepped through: the written ones and, with --skipped-frames
+  // follow, the frames on disk that a stepped range skips.
+  std::optional<Sequence> followed;
+  if (const std::vector<int> frames = written_frames.followed_frames(); frames.size() > written_frames.size()) {
+    InputOptions input = options.input;
+    input.frames = format_frame_range(frames);
+    followed.emplace(input);
+  }
+  const Sequence& sequence = followed ? *followed : written_frames;
+  std::vector<char> written(sequence.size());
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    written[i] =
+        std::binary_search(written_frames.frames().begin(), written_frames.frames().end(), sequence.frames()[i]);
+  }
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
   if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
-  const JobRecord record = claim_job(options, sequence, reporter);
+  const JobRecord record = claim_job(options, written_frames, reporter);
   JobOptions stamped = options;  // what the frames are written with
   stamped.output.provenance = settings_hash(record);
   std::size_t first = 0;
@@ -478,7 +535,7 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     method = std::make_unique<FlowMapTexturing>(stamped, *exemplar);
   } else {
     std::string resumed_state;
-    Tracker tracker = start_tracker(options, sequence, reporter, first, summary, resumed_state);
+    Tracker tracker = start_tracker(options, sequence, written, reporter, first, summary, resumed_state);
     method = std::make_unique<PatchTexturing>(std::move(tracker), stamped, exemplar ? &*exemplar : nullptr,
                                               std::move(resumed_state));
   }
@@ -486,6 +543,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
   write_text_atomically(job_record_path(options.output.dir), job_record_toml(record));
   int previous_frame = summary.resumed_after;
+  StageSeconds followed_seconds;  // of the frames followed since the last written one
+  int steps_followed = 0;
 
   // Frames flow through a TBB pipeline: read → track → texture → write.
   // Reading frame t+1, tracking and texturing overlap; tracking and the final
@@ -495,7 +554,10 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   const std::size_t tokens = 3;
   using WorkPtr = std::shared_ptr<Work>;
   auto read = [&](tbb::flow_control& fc) -> WorkPtr {
-    if (next < sequence.size()) return read_frame(sequence, next++, options, reporter);
+    if (next < sequence.size()) {
+      const std::size_t index = next++;
+      return read_frame(sequence, index, written[index], options, reporter);
+    }
     fc.stop();
     return nullptr;
   };
@@ -505,14 +567,29 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
                                            : static_cast<double>(work->frame - previous_frame) / options.input.fps;
     isolated_stage([&] { method->track(*work, dt, work->index == first, reporter); });
     previous_frame = work->frame;
+    // A written frame's seconds include those of the frames followed since
+    // the previous one (reading and tracking them).
+    if (!work->written) {
+      ++steps_followed;
+      for (const auto& [stage, secs] : work->stats.seconds) add_seconds(followed_seconds, stage, secs);
+    } else if (steps_followed > 0) {
+      for (const auto& [stage, secs] : followed_seconds) add_seconds(work->stats.seconds, stage, secs);
+      work->stats.extra.emplace_back("frames_followed", steps_followed);
+      followed_seconds.clear();
+      steps_followed = 0;
+    }
     return work;
   };
   auto texture = [&](WorkPtr work) {
-    isolated_stage([&] { method->texture(*work); });
+    if (work->written) isolated_stage([&] { method->texture(*work); });
     return work;
   };
   std::size_t committed = first;  // frames [first, committed) have all their outputs
   auto write = [&](const WorkPtr& work) {
+    if (!work->written) {
+      committed = work->index + 1;
+      return;
+    }
     method->finish(*work);
     committed = work->index + 1;
     stats.add(work->stats);
@@ -530,7 +607,9 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     // Frames in flight may have their atlas and mesh on disk already: a
     // frame is complete with its state, or absent (--resume redoes it).
     if (options.method == TexturingMethod::Patches && options.output.write_state) {
-      for (std::size_t i = committed; i < sequence.size(); ++i) remove_frame_outputs(options, sequence.frames()[i]);
+      for (std::size_t i = committed; i < sequence.size(); ++i) {
+        if (written[i]) remove_frame_outputs(options, sequence.frames()[i]);
+      }
     }
     throw;
   }

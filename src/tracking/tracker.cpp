@@ -137,6 +137,10 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   return report;
 }
 
+void Tracker::prepend_retired(const std::vector<RetiredPatch>& earlier) {
+  retired_.insert(retired_.begin(), earlier.begin(), earlier.end());
+}
+
 std::vector<AdvectResult> Tracker::advect(const SurfaceIndex& next, double dt, StepReport& report) {
   const ScopedStage stage(report.seconds, "advect");
   std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);

@@ -4,10 +4,14 @@
 
 #include <cctype>
 #include <filesystem>
+#include <map>
+#include <sstream>
 
 #include "fluidtex/io/image_io.h"
+#include "fluidtex/io/mesh_io.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/scenes/scenes.h"
+#include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/version.h"
 #include "test_util.h"
 
@@ -247,6 +251,82 @@ TEST(Cli, ResumeContinuesFromTheLastState) {
   }
   const std::string stats = test::read_file(dir.path() / "part" / "stats.jsonl");
   EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 4) << stats;
+}
+
+/// The numbers of one key in a run's stats.jsonl, by frame.
+std::map<int, double> stats_numbers(const fs::path& stats_path, const std::string& key) {
+  std::map<int, double> out;
+  std::istringstream lines(test::read_file(stats_path));
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t at = line.find("\"" + key + "\":");
+    if (at == std::string::npos) continue;
+    out[std::stoi(line.substr(line.find("\"frame\":") + 8))] = std::stod(line.substr(at + key.size() + 3));
+  }
+  return out;
+}
+
+TEST(Cli, AStepRangeFollowsTheFramesItSkips) {
+  // The merge scene makes and retires patches every frame. With 1-7x2 the
+  // run reads and tracks frames 2, 4 and 6 without writing them: frames 3, 5
+  // and 7 are those of the every-frame run, and their stats and states count
+  // every step since the previous written frame.
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(
+      run_fluidtex("gen merge -o " + q(dir.str()) + " --frames 7 --resolution 20 --exemplar gravel --exemplar-size 32",
+                   &out),
+      0)
+      << out;
+  const std::string base =
+      "run -q -i " + q(dir.file("merge.####.ply")) + " -e " + q(dir.file("gravel.png")) + " --atlas-size 64 ";
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("every")), &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("step")) + " --frames 1-7x2", &out), 0) << out;
+  const fs::path every = dir.path() / "every", step = dir.path() / "step";
+  for (const char* f : {"atlas.0003.exr", "mesh.0003.obj", "atlas.0005.exr", "atlas.0007.exr", "mesh.0007.obj"}) {
+    const std::string a = test::read_file(every / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_TRUE(a == test::read_file(step / f)) << f;
+  }
+  for (const char* f : {"atlas.0002.exr", "mesh.0004.obj", "state/patches.0006.bin"})
+    EXPECT_FALSE(fs::exists(step / f)) << f;
+
+  const auto created = stats_numbers(every / "stats.jsonl", "patches_created");
+  const auto removed = stats_numbers(every / "stats.jsonl", "patches_removed");
+  const auto step_created = stats_numbers(step / "stats.jsonl", "patches_created");
+  const auto step_removed = stats_numbers(step / "stats.jsonl", "patches_removed");
+  EXPECT_EQ(step_created.size(), 4u);
+  EXPECT_EQ(stats_numbers(step / "stats.jsonl", "frames_followed"), (std::map<int, double>{{3, 1}, {5, 1}, {7, 1}}));
+  int retired_between = 0;
+  for (int f : {3, 5, 7}) {
+    EXPECT_EQ(step_created.at(f), created.at(f - 1) + created.at(f)) << f;
+    EXPECT_EQ(step_removed.at(f), removed.at(f - 1) + removed.at(f)) << f;
+    // The state lists the retirements of both steps.
+    auto mesh = std::make_shared<const FrameMesh>(read_frame(dir.file("merge.000" + std::to_string(f) + ".ply")));
+    const std::string name = "state/patches.000" + std::to_string(f) + ".bin";
+    const std::size_t both = Tracker::load((step / name).string(), mesh).retired().size();
+    const std::size_t last = Tracker::load((every / name).string(), mesh).retired().size();
+    EXPECT_GE(both, last) << f;
+    retired_between += static_cast<int>(both - last);
+  }
+  EXPECT_GT(retired_between, 0);
+
+  // Resumed half-way, the stepped run goes on through the frames it skips.
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --frames 1-3x2", &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("part")) + " --frames 1-7x2 --resume", &out), 0) << out;
+  EXPECT_TRUE(test::read_file(every / "atlas.0007.exr") == test::read_file(dir.path() / "part" / "atlas.0007.exr"));
+
+  // --skipped-frames ignore steps across the gap (another texture), and a
+  // skipped frame missing on disk is stepped across too.
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("ignore")) + " --frames 1-7x2 --skipped-frames ignore", &out), 0)
+      << out;
+  EXPECT_FALSE(test::read_file(every / "atlas.0005.exr") == test::read_file(dir.path() / "ignore" / "atlas.0005.exr"));
+  EXPECT_TRUE(stats_numbers(dir.path() / "ignore" / "stats.jsonl", "frames_followed").empty());
+  fs::remove(dir.path() / "merge.0004.ply");
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("gap")) + " --frames 1-7x2", &out), 0) << out;
+  EXPECT_TRUE(test::read_file(every / "atlas.0003.exr") == test::read_file(dir.path() / "gap" / "atlas.0003.exr"));
+  EXPECT_FALSE(test::read_file(every / "atlas.0005.exr") == test::read_file(dir.path() / "gap" / "atlas.0005.exr"));
+  EXPECT_EQ(stats_numbers(dir.path() / "gap" / "stats.jsonl", "frames_followed"),
+            (std::map<int, double>{{3, 1}, {7, 1}}));
 }
 
 TEST(Cli, SameOutputForOneAndTwoThreads) {

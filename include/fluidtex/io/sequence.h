@@ -12,14 +12,25 @@
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/geometry/mesh_clean.h"
 #include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/util/enum_names.h"
 #include "fluidtex/util/options.h"
 
 namespace fluidtex {
+
+/// What a run does with the frames that a stepped range (`1-120x2`) skips.
+enum class SkippedFrames {
+  Follow,  ///< read them and carry the patches through their velocities, write nothing for them
+  Ignore,  ///< one step of v·Δt across the gap: faster, but a fast sheet outruns it
+};
+inline constexpr EnumName<SkippedFrames> kSkippedFramesNames[] = {{SkippedFrames::Follow, "follow"},
+                                                                  {SkippedFrames::Ignore, "ignore"}};
+constexpr const auto& enum_names(SkippedFrames) { return kSkippedFramesNames; }
 
 /// How to read the input sequence.
 struct InputOptions {
   std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
   std::string frames;                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
+  SkippedFrames skipped_frames = SkippedFrames::Follow;  ///< --skipped-frames
   double fps = 24.0;                     ///< frames per second; dt = 1/fps
   std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
   bool velocity_from_positions = false;  ///< derive velocities by central differences
@@ -38,6 +49,11 @@ struct InputOptions {
                  .alias = "-i"},
       o.pattern);
     f(OptionInfo{.name = "frames", .help = "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)"}, o.frames);
+    f(OptionInfo{.name = "skipped-frames",
+                 .help = "Frames on disk that a stepped range skips (1-120x2): follow (read them and carry the "
+                         "texture through their velocities, so each written frame is the every-frame run's) or "
+                         "ignore (one step across the gap: faster, but fast liquid outruns it)"},
+      o.skipped_frames);
     f(OptionInfo{.name = "fps", .help = "Frames per second; the frame step is 1/fps", .bounds = above(0)}, o.fps);
     f(OptionInfo{.name = "velocity-attr",
                  .help = "Velocity property names 'a,b,c' or a prefix P (P_x or Px...); default: vx vy vz, "
@@ -88,6 +104,11 @@ class Sequence {
   /// vertex count are an InputError. With `strict`, a non-manifold frame is an
   /// InputError. `report` (optional) receives what cleaning did.
   FrameMesh load(std::size_t index, CleanReport* report = nullptr) const;
+
+  /// The frames a run steps through to write frames(): those, and, with
+  /// SkippedFrames::Follow, every frame on disk (with its velocity VDB when
+  /// velocities come from one) that lies between two of them, ascending.
+  std::vector<int> followed_frames() const;
 
  private:
   InputOptions options_;

@@ -106,6 +106,10 @@ class Tracker {
   /// The patches that started leaving the distribution in the last step
   /// (flagged to fade out, or lost at once), with the rule that fired.
   const std::vector<RetiredPatch>& retired() const { return retired_; }
+  /// Puts `earlier` (the retirements of steps whose state is not saved: the
+  /// frames a stepped run follows without writing) before the last step's,
+  /// so that the next saved state lists every retirement since the one before.
+  void prepend_retired(const std::vector<RetiredPatch>& earlier);
   /// The parameters in use; lengths are resolved after the first step.
   const TrackerSettings& settings() const { return settings_; }
   /// How far apart the points are at which coverage is tested
