@@ -214,8 +214,28 @@ Vec3 point_of(const FrameMesh& mesh, int f, const Vec3& bary, const std::vector<
 
 }  // namespace
 
-WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
-                           const Exemplar& exemplar, int samples, std::uint64_t seed) {
+struct LiquidMotion::Step {
+  std::shared_ptr<const FrameMesh> mesh;  // the index refers to it
+  SurfaceIndex surface;
+  double dt;
+  Step(std::shared_ptr<const FrameMesh> m, double seconds) : mesh(std::move(m)), surface(*mesh), dt(seconds) {}
+};
+
+void LiquidMotion::add_step(std::shared_ptr<const FrameMesh> mesh, double dt) {
+  steps_.push_back(std::make_shared<const Step>(std::move(mesh), dt));
+}
+
+Vec3 LiquidMotion::carry(const Vec3& p, const Vec3& v) const {
+  Vec3 q = p + v * dt_;
+  for (const auto& step : steps_) {
+    const SurfacePoint s = step->surface.closest_point(q);
+    if (s.valid()) q += step->surface.velocity_at(s) * step->dt;
+  }
+  return q;
+}
+
+WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next,
+                           const LiquidMotion& motion, const Exemplar& exemplar, int samples, std::uint64_t seed) {
   const auto points = surface_samples(mesh, samples, seed, 1);
   const auto others = surface_samples(*at_next.geometry, samples, seed, 2);
   WarpingError out;
@@ -230,7 +250,7 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
     const Vec3 v = point_of(mesh, f, bary, mesh.velocities);
     float c0[kMaxLookupChannels], c1[kMaxLookupChannels], c2[kMaxLookupChannels], c3[kMaxLookupChannels];
     at_t.color_at(p, c0);
-    at_next.color_at(p + v * dt, c1);
+    at_next.color_at(motion.carry(p, v), c1);
     at_next.color_at(p, c2);
     const auto& [g, gb] = others[i];
     at_next.color_at(point_of(*at_next.geometry, g, gb, at_next.geometry->positions), c3);
@@ -413,12 +433,13 @@ std::string png_data_uri(const std::string& path) {
   return "data:image/png;base64," + OIIO::Strutil::base64_encode(bytes.str());
 }
 
-/// Renders frames t and t+1 (one camera, no shading, so that only the
-/// texture moves) and compares their optical flow with the fluid velocity at
-/// t projected to the image, over pixels inside the surface in both renders
-/// (2 pixels away from its silhouette).
+/// Renders two frames measured (one camera, no shading, so that only the
+/// texture moves) and compares their optical flow with the liquid's motion
+/// between them (`motion`, from the velocity at t) projected to the image,
+/// over pixels inside the surface in both renders (2 pixels away from its
+/// silhouette).
 FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next,
-                                double dt, const EvalOptions& options) {
+                                const LiquidMotion& motion, const EvalOptions& options) {
   std::vector<Vec3> both = at_t.mesh.positions;
   both.insert(both.end(), at_next.mesh.positions.begin(), at_next.mesh.positions.end());
   RenderOptions o = options.render;
@@ -448,7 +469,7 @@ FlowError flow_against_velocity(const FrameMesh& mesh, const TexturedFrame& at_t
       const Vec3 p = interpolate(at_t.mesh.positions, t, l);
       const SurfacePoint s = velocity.closest_point(p);
       if (!s.valid()) continue;
-      const Vec2 d = a.camera.image_displacement(p, velocity.velocity_at(s) * dt);
+      const Vec2 d = a.camera.image_displacement(p, motion.carry(p, velocity.velocity_at(s)) - p);
       const std::size_t i = texel_index(x, y, w);
       expected.pixels[2 * i] = static_cast<float>(d.x());
       expected.pixels[2 * i + 1] = static_cast<float>(d.y());
@@ -590,17 +611,18 @@ void texture_metrics(const TexturedFrame& frame, const TrackingOptions& resolved
   row.emplace_back("spectrum_distance", spectrum);
 }
 
-/// Texture–flow agreement of two consecutive frames: warping error and
-/// optical flow against the projected velocity.
+/// Texture–flow agreement of two frames measured: warping error and optical
+/// flow against the liquid's projected motion.
 void flow_metrics(const FrameMesh& previous_mesh, const TexturedFrame& previous, const TexturedFrame& current,
-                  double dt, const Exemplar& exemplar, const EvalOptions& options, int frame, Row& row) {
+                  const LiquidMotion& motion, const Exemplar& exemplar, const EvalOptions& options, int frame,
+                  Row& row) {
   const WarpingError w =
-      warping_error(previous_mesh, previous, current, dt, exemplar, options.samples, options.seed + frame);
+      warping_error(previous_mesh, previous, current, motion, exemplar, options.samples, options.seed + frame);
   row.emplace_back("warp_advected", w.advected);
   row.emplace_back("warp_fixed", w.fixed);
   row.emplace_back("warp_random", w.random);
   if (options.flow_width > 0) {
-    const FlowError f = flow_against_velocity(previous_mesh, previous, current, dt, options);
+    const FlowError f = flow_against_velocity(previous_mesh, previous, current, motion, options);
     row.emplace_back("flow_endpoint_px", f.pixels ? f.endpoint : std::nan(""));
     row.emplace_back("flow_angular_deg", f.pixels ? f.angular : std::nan(""));
     row.emplace_back("flow_speed_px", f.pixels ? f.speed : std::nan(""));
@@ -725,10 +747,30 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   if (std::filesystem::path(mesh_pattern).extension() != ".obj") {
     throw InputError(mesh_pattern, "eval reads the run's UV meshes as OBJ (run with the default --mesh)");
   }
-  const Sequence sequence(options.input);
+  // The frames on disk between two measured ones (a stepped run's skipped
+  // frames, followed or not) carry the liquid from one to the next.
+  InputOptions input = options.input;
+  input.skipped_frames = SkippedFrames::Follow;
+  const Sequence sequence(input);
+  const std::vector<int> followed = sequence.followed_frames();
+  std::optional<Sequence> between;
+  if (followed.size() > sequence.size()) {
+    input.frames = format_frame_range(followed);
+    between.emplace(input);
+  }
+  auto motion_between = [&](int from, int to) {
+    const auto first = std::upper_bound(followed.begin(), followed.end(), from);
+    const auto last = std::lower_bound(first, followed.end(), to);
+    LiquidMotion motion((first == last ? to - from : *first - from) / options.input.fps);
+    for (auto it = first; it != last; ++it) {
+      const int next = it + 1 == last ? to : *(it + 1);
+      motion.add_step(std::make_shared<const FrameMesh>(between->load(static_cast<std::size_t>(it - followed.begin()))),
+                      (next - *it) / options.input.fps);
+    }
+    return motion;
+  };
   const Exemplar exemplar =
       load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar, job.synthesis.displacement);
-  const double dt = 1.0 / options.input.fps;
   const std::string dir = options.run_dir + "/eval";
   std::filesystem::create_directories(dir);
 
@@ -756,7 +798,10 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
     texture_metrics(current, *resolved, exemplar, row);
-    if (previous) flow_metrics(*previous_mesh, *previous, current, dt, exemplar, options, frame, row);
+    if (previous) {
+      const LiquidMotion motion = motion_between(sequence.frames()[i - 1], frame);
+      flow_metrics(*previous_mesh, *previous, current, motion, exemplar, options, frame, row);
+    }
     if (static_cast<int>(i) % image_every == 0 && static_cast<int>(images.size()) < options.report_images) {
       const std::string png = FramePattern(dir + "/preview.####.png").path(frame);
       write_image(png, render_textured(current.mesh, current.atlas, options.render), ImageWriteOptions{});

@@ -49,15 +49,39 @@ TEST(Eval, WarpingErrorIsZeroForAnAdvectedTextureAndLargeForARandomOne) {
   moved.emplace(TexturedFrame(moving_grid(10, speed * dt), exemplar.image()));
   const TexturedFrame t1(std::move(*moved));
   moved.reset();
-  const WarpingError w = warping_error(mesh, t0, t1, dt, exemplar, 4000, 7);
+  const WarpingError w = warping_error(mesh, t0, t1, LiquidMotion(dt), exemplar, 4000, 7);
   EXPECT_EQ(w.samples, 4000u);
   EXPECT_LT(w.advected, 1e-3);  // exactly advected, no distortion
   EXPECT_GT(w.fixed, 0.1);      // the texture moved under a fixed point
   EXPECT_GT(w.random, 0.5);     // uncorrelated colours: about 2/sqrt(pi) σ for Gaussian noise
   // A texture unrelated to the last frame's: as bad as random.
   const TexturedFrame other(moving_grid(10, speed * dt), make_exemplar("gravel", 128, 99));
-  const WarpingError r = warping_error(mesh, t0, other, dt, exemplar, 4000, 7);
+  const WarpingError r = warping_error(mesh, t0, other, LiquidMotion(dt), exemplar, 4000, 7);
   EXPECT_GT(r.advected, 0.5 * w.random);
+}
+
+TEST(Eval, TheLiquidIsCarriedThroughTheFramesBetweenTwoMeasured) {
+  // Frame t moves along x; the frame after it, which a stepped run skips,
+  // moves along y: two frames later a point has gone both ways.
+  const double dt = 1.0 / 24.0;
+  FrameMesh between = test::flat_grid(10, 1.0, 0.0, 0.0, 0.0);
+  between.velocities.assign(between.positions.size(), Vec3(0.0, 0.6, 0.0));
+  LiquidMotion motion(dt);
+  EXPECT_TRUE(motion.carry(Vec3(0.5, 0.5, 0.0), Vec3(0.3, 0.0, 0.0)).isApprox(Vec3(0.5 + 0.3 * dt, 0.5, 0.0)));
+  motion.add_step(std::make_shared<const FrameMesh>(between), 2 * dt);
+  EXPECT_TRUE(
+      motion.carry(Vec3(0.5, 0.5, 0.0), Vec3(0.3, 0.0, 0.0)).isApprox(Vec3(0.5 + 0.3 * dt, 0.5 + 1.2 * dt, 0.0), 1e-9));
+
+  // A texture that went along x and then along y is where the motion says.
+  const Exemplar exemplar(make_exemplar("gravel", 128, 4));
+  FrameMesh mesh = test::flat_grid(10, 1.0, 0.0, 0.0, 0.0);
+  mesh.velocities.assign(mesh.positions.size(), Vec3(0.3, 0.0, 0.0));
+  const TexturedFrame t0(moving_grid(10, 0.0), exemplar.image());
+  UVMesh moved = moving_grid(10, 0.3 * dt);
+  for (Vec3& p : moved.positions) p.y() += 1.2 * dt;  // uvs stay: the texture moves with it
+  const TexturedFrame t2(std::move(moved), exemplar.image());
+  EXPECT_LT(warping_error(mesh, t0, t2, motion, exemplar, 4000, 7).advected, 1e-3);
+  EXPECT_GT(warping_error(mesh, t0, t2, LiquidMotion(3 * dt), exemplar, 4000, 7).advected, 0.1);
 }
 
 TEST(Eval, OpticalFlowFindsATranslation) {

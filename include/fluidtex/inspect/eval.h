@@ -81,13 +81,32 @@ struct WarpingError {
   std::size_t samples = 0;
 };
 
-/// Texture–flow agreement between consecutive frames: `samples` points of
+/// Where the liquid carries a point of frame t by the next frame measured:
+/// p + v·dt (the solver's own step) with t's velocity, then one such step
+/// with the velocities of each frame in between (the frames a stepped run,
+/// 1-120x2, writes nothing for), each read at the surface point nearest the
+/// carried one. Between consecutive frames: p + v·dt.
+class LiquidMotion {
+ public:
+  explicit LiquidMotion(double dt) : dt_(dt) {}
+  /// A further step with `mesh`'s velocities over `dt` seconds.
+  void add_step(std::shared_ptr<const FrameMesh> mesh, double dt);
+  /// `p`, whose velocity on frame t is `v`, carried to the next frame measured.
+  Vec3 carry(const Vec3& p, const Vec3& v) const;
+
+ private:
+  struct Step;
+  double dt_;
+  std::vector<std::shared_ptr<const Step>> steps_;
+};
+
+/// Texture–flow agreement between two frames measured: `samples` points of
 /// `mesh` (frame t, with velocities; area-weighted, fixed seed) coloured from
-/// frame t, then looked up at t+1 at p + v·dt (and at the two baselines).
-/// Mean absolute colour difference over channels, divided by the mean σ of
-/// the exemplar channels.
-WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next, double dt,
-                           const Exemplar& exemplar, int samples, std::uint64_t seed);
+/// frame t, then looked up in the next at motion.carry(p, v) (and at the two
+/// baselines). Mean absolute colour difference over channels, divided by
+/// the mean σ of the exemplar channels.
+WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, const TexturedFrame& at_next,
+                           const LiquidMotion& motion, const Exemplar& exemplar, int samples, std::uint64_t seed);
 
 struct FlowError {
   double endpoint = 0.0;  ///< mean |flow − projected velocity|, pixels
