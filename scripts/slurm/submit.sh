@@ -3,10 +3,11 @@
 # array job that starts when tracking succeeded (afterok), FRAMES_PER_TASK
 # frames per array task. The result is byte-identical to one `fluidtex run`.
 #
-#   scripts/slurm/submit.sh -o OUT --frames FIRST-LAST [options] -- RUN_OPTIONS...
+#   scripts/slurm/submit.sh -o OUT --frames FIRST-LAST[xSTEP] [options] -- RUN_OPTIONS...
 #
 #   -o OUT                 the job's output folder (shared by every node)
-#   --frames FIRST-LAST    the frames to texture (a contiguous range)
+#   --frames FIRST-LAST    the frames to texture (a range; FIRST-LASTxSTEP
+#                          textures every STEP-th, tracking the frames between)
 #   --frames-per-task N    frames per synthesis task (default 8)
 #   --resume               continue a tracking step that failed or was cut short
 #   --prune-state          synthesis tasks remove the states they used
@@ -29,7 +30,7 @@ out="" frames="" per=8 resume=0 prune=0 wait=0 extra="" fluidtex="${FLUIDTEX:-fl
 while (($#)); do
   case $1 in
     -o | --output) out=${2:?-o needs a folder}; shift 2 ;;
-    --frames) frames=${2:?--frames needs FIRST-LAST}; shift 2 ;;
+    --frames) frames=${2:?--frames needs FIRST-LAST[xSTEP]}; shift 2 ;;
     --frames-per-task) per=${2:?--frames-per-task needs a number}; shift 2 ;;
     --resume) resume=1; shift ;;
     --prune-state) prune=1; shift ;;
@@ -42,28 +43,29 @@ while (($#)); do
   esac
 done
 [[ -n $out ]] || { echo "submit.sh: -o OUT is required" >&2; exit 2; }
-if [[ ! $frames =~ ^(-?[0-9]+)-(-?[0-9]+)$ ]]; then
-  echo "submit.sh: --frames FIRST-LAST is required (a contiguous range), got '$frames'" >&2
+if [[ ! $frames =~ ^(-?[0-9]+)-(-?[0-9]+)(x([1-9][0-9]*))?$ ]]; then
+  echo "submit.sh: --frames FIRST-LAST or FIRST-LASTxSTEP is required (one range), got '$frames'" >&2
   exit 2
 fi
-first=${BASH_REMATCH[1]} last=${BASH_REMATCH[2]}
+first=${BASH_REMATCH[1]} last=${BASH_REMATCH[2]} step=${BASH_REMATCH[4]:-1}
 ((last >= first)) || { echo "submit.sh: --frames $frames ends before it starts" >&2; exit 2; }
+last=$((first + (last - first) / step * step))  # the last frame the range textures
 [[ $per =~ ^[1-9][0-9]*$ ]] || { echo "submit.sh: --frames-per-task must be a positive integer" >&2; exit 2; }
 command -v sbatch >/dev/null || { echo "submit.sh: sbatch not found (Slurm's client tools)" >&2; exit 2; }
 
 mkdir -p "$out/logs"
 out=$(cd "$out" && pwd)  # the nodes may start elsewhere
-tasks=$(((last - first) / per + 1))
+tasks=$(((last - first) / step / per + 1))
 read -r -a sbatch_extra <<<"$extra"
 export FLUIDTEX=$fluidtex
 
-track_args=(-o "$out" --frames "$first-$last" "$@")
+track_args=(-o "$out" --frames "$frames" "$@")
 ((resume)) && track_args+=(--resume)
 track=$(sbatch --parsable --export=ALL "${sbatch_extra[@]}" --output="$out/logs/%x.%j.log" \
   "$here/track.sbatch" "${track_args[@]}")
 track=${track%%;*}
 
-synth_args=("$out" "$first" "$last" "$per")
+synth_args=("$out" "$first" "$last" "$per" "$step")
 ((prune)) && synth_args+=(--prune-state)
 wait_flag=()
 ((wait)) && wait_flag=(--wait)

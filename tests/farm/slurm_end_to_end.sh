@@ -3,7 +3,8 @@
 # (scripts/slurm/local_cluster.sh), submits a small generated scene through
 # scripts/slurm/submit.sh (tracking job, then a synthesis array job of 3
 # tasks that depends on it), waits, and compares every atlas, UV mesh and
-# state byte for byte with one `fluidtex run`. The daemons are stopped by
+# state byte for byte with one `fluidtex run`; then every second frame
+# (--frames 1-6x2), whose frames must be that run's too. The daemons are stopped by
 # their pid files whatever happens. Exit 77 (skipped) only where Slurm is
 # not installed or cannot run (not root); CI installs it.
 #   tests/farm/slurm_end_to_end.sh FLUIDTEX_EXE
@@ -55,4 +56,24 @@ done
 frames=$(cat "$tmp"/farm/logs/fluidtex-synth.*.log | grep -c '^synth frame ' || true)
 [[ $frames == 6 ]] || { echo "FAIL: the array tasks logged $frames frames, not 6" >&2; status=1; }
 ((status)) && { tail -n 20 "$tmp"/farm/logs/*.log "$tmp"/cluster/*.log >&2 || true; exit 1; }
-echo "Slurm end to end: 6 frames identical to one run ($((SECONDS - start)) s with the cluster's start)"
+
+# Every second frame: tracked through frames 2 and 4, textured by two tasks
+# (frames 1 and 3, and 5), identical to the every-frame run's frames 1, 3 and 5.
+"$root/scripts/slurm/submit.sh" -o "$tmp/step" --frames 1-6x2 --frames-per-task 2 --wait \
+  --fluidtex "$exe" -- "${options[@]}"
+for f in 1 3 5; do
+  for name in $(printf 'atlas.%04d.exr mesh.%04d.obj aov/weight.%04d.exr' $f $f $f); do
+    if ! cmp -s "$tmp/one/$name" "$tmp/step/$name"; then
+      echo "FAIL: $name of the stepped Slurm job differs from the every-frame run's" >&2
+      status=1
+    fi
+  done
+done
+for f in 2 4 6; do
+  [[ -e $(printf '%s/step/atlas.%04d.exr' "$tmp" $f) ]] && { echo "FAIL: the stepped job wrote frame $f" >&2; status=1; }
+done
+for range in 1_3 5; do
+  [[ -f $tmp/step/stats/synth.$range.jsonl ]] || { echo "FAIL: no stats/synth.$range.jsonl" >&2; status=1; }
+done
+((status)) && { tail -n 20 "$tmp"/step/logs/*.log "$tmp"/cluster/*.log >&2 || true; exit 1; }
+echo "Slurm end to end: 6 frames, and every second frame, identical to one run ($((SECONDS - start)) s with the cluster's start)"
