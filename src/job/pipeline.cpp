@@ -444,7 +444,14 @@ std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, bo
   work->frame = sequence.frames()[index];
   work->written = written;
   work->stats.method = to_string(options.method);
-  work->mesh = read_frame_mesh(sequence, index, work->stats, reporter);
+  try {
+    work->mesh = read_frame_mesh(sequence, index, work->stats, reporter);
+  } catch (const InputError& e) {
+    if (written) throw;
+    throw InputError(e.file(), e.problem() +
+                                   " (a frame the stepped range skips, read to carry the texture through it; "
+                                   "--skipped-frames ignore steps across it)");
+  }
   return work;
 }
 

@@ -321,6 +321,12 @@ TEST(Cli, AStepRangeFollowsTheFramesItSkips) {
       << out;
   EXPECT_FALSE(test::read_file(every / "atlas.0005.exr") == test::read_file(dir.path() / "ignore" / "atlas.0005.exr"));
   EXPECT_TRUE(stats_numbers(dir.path() / "ignore" / "stats.jsonl", "frames_followed").empty());
+  // A skipped frame that cannot be read fails the run, naming it and the way round it.
+  test::write_file(dir.path() / "merge.0004.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
+  EXPECT_EQ(run_fluidtex(base + "-o " + q(dir.file("bad")) + " --frames 1-7x2", &out), 2);
+  EXPECT_NE(out.find("merge.0004.ply: "), std::string::npos) << out;
+  EXPECT_NE(out.find("--skipped-frames ignore"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.path() / "bad" / "atlas.0005.exr"));
   fs::remove(dir.path() / "merge.0004.ply");
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("gap")) + " --frames 1-7x2", &out), 0) << out;
   EXPECT_TRUE(test::read_file(every / "atlas.0003.exr") == test::read_file(dir.path() / "gap" / "atlas.0003.exr"));
