@@ -491,6 +491,7 @@ struct PatchHistory {
   std::array<std::array<int, kAgeBuckets>, kRetireCauses> retired_by_age{};  // rule x age at removal
   std::set<std::uint32_t> previous_ids;
   bool have_previous = false;
+  int previous_frame = 0;
 
   void add(int frame, const Tracker& tracker, Row& row) {
     const std::vector<Patch>& patches = tracker.patches();
@@ -517,9 +518,11 @@ struct PatchHistory {
     row.emplace_back("births", have_previous ? births : std::nan(""));
     row.emplace_back("deaths", have_previous ? deaths : std::nan(""));
     row.emplace_back("recuts", have_previous ? recuts : std::nan(""));  // cut again in place (--distorted recut)
-    // Churn: births over live patches, and the share of patches active.
-    row.emplace_back("birth_rate",
-                     have_previous && !patches.empty() ? births / static_cast<double>(patches.size()) : std::nan(""));
+    // Churn: births per frame over live patches (a stepped run's pair spans
+    // its step), and the share of patches active.
+    row.emplace_back("birth_rate", have_previous && !patches.empty()
+                                       ? births / static_cast<double>(patches.size()) / (frame - previous_frame)
+                                       : std::nan(""));
     row.emplace_back("active_share",
                      patches.empty() ? std::nan("") : counts.active / static_cast<double>(patches.size()));
     if (have_previous) {
@@ -528,6 +531,7 @@ struct PatchHistory {
     }
     previous_ids = std::move(ids);
     have_previous = true;
+    previous_frame = frame;
   }
 
   /// Patches still alive at the end count with their (censored) age.

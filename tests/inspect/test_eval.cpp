@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <sstream>
 
 #include "fluidtex/geometry/surface.h"
 #include "fluidtex/inspect/eval.h"
@@ -222,6 +223,40 @@ TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
   // Not a run's folder: a clear error.
   EXPECT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + scene + " -q"), 2);
+}
+
+TEST(Eval, AStepRunIsMeasuredThroughTheFramesItSkipsAndPerFrame) {
+  // Every second frame of the merge scene (it makes patches every frame):
+  // births per frame are the pair's births over two frames, and the texture
+  // changes less along the liquid's motion through the frame between than
+  // in place.
+  test::TempDir dir;
+  const std::string scene = dir.file("scene");
+  ASSERT_EQ(
+      test::run_fluidtex("gen merge -o " + scene + " --frames 5 --resolution 20 --exemplar gravel --exemplar-size 32"),
+      0);
+  const std::string out = dir.file("out"), input = scene + "/merge.####.ply";
+  ASSERT_EQ(test::run_fluidtex("run -i '" + input + "' -e " + scene + "/gravel.png -o " + out +
+                               " --atlas-size 128 --frames 1-5x2 -q"),
+            0);
+  ASSERT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + out + " --samples 2000 --flow-width 0 -q"), 0);
+  std::istringstream lines(test::read_file(out + "/eval/metrics.jsonl"));
+  auto number = [](const std::string& line, const std::string& key) {
+    const std::size_t at = line.find("\"" + key + "\":");
+    EXPECT_NE(at, std::string::npos) << key;
+    return at == std::string::npos ? std::nan("") : std::stod(line.substr(at + key.size() + 3));
+  };
+  int pairs = 0;
+  double births = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (number(line, "frame") == 1) continue;
+    ++pairs;
+    births += number(line, "births");
+    EXPECT_NEAR(number(line, "birth_rate"), number(line, "births") / number(line, "patches") / 2, 1e-12);
+    EXPECT_LT(number(line, "warp_advected"), number(line, "warp_fixed")) << line;  // moves with the liquid
+  }
+  EXPECT_EQ(pairs, 2);
+  EXPECT_GT(births, 0);
 }
 
 }  // namespace
