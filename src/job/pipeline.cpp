@@ -525,6 +525,11 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
     followed.emplace(input);
   }
   const Sequence& sequence = followed ? *followed : written_frames;
+  if (followed) {
+    reporter.info("following " + std::to_string(sequence.size() - written_frames.size()) +
+                  " frames on disk between the " + std::to_string(written_frames.size()) +
+                  " written (--skipped-frames follow)");
+  }
   std::vector<char> written(sequence.size());
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     written[i] =
