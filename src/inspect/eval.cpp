@@ -790,7 +790,12 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int frame = sequence.frames()[i];
     reporter.progress(i, sequence.size(), "eval");
-    auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
+    // With the frames between on disk, velocities from positions are central
+    // differences over them, as a run that follows them reads them.
+    auto mesh = std::make_shared<const FrameMesh>(
+        between ? between->load(static_cast<std::size_t>(std::lower_bound(followed.begin(), followed.end(), frame) -
+                                                         followed.begin()))
+                : sequence.load(i));
     TexturedFrame current = read_run_frame(atlas_pattern, mesh_pattern, frame);
     Row row{{"frame", frame}};
     const std::string state = state_path(options.run_dir, frame);

@@ -167,6 +167,29 @@ TEST(Sequence, VelocityFromPositionsNeedsVerticesThatCorrespond) {
   }
 }
 
+TEST(Sequence, AStepRangeFollowsTheFramesOnDiskBetweenItsFrames) {
+  test::TempDir dir;
+  std::vector<int> order(16);
+  for (int k = 0; k < 16; ++k) order[k] = k;
+  for (int f = 1; f <= 8; ++f) {
+    if (f == 5) continue;  // not on disk
+    test::write_file(dir.path() / FramePattern("g.####.obj").path(f), grid_obj(4, Vec3(f, 0, 0), 1.0, order));
+  }
+  std::filesystem::remove(dir.path() / "g.0002.obj");
+  std::filesystem::create_directory(dir.path() / "g.0002.obj");  // a folder named like a frame: not one
+  InputOptions in;
+  in.pattern = dir.file("g.####.obj");
+  in.velocity_from_positions = true;
+  in.frames = "1-7x3";
+  EXPECT_EQ(Sequence(in).frames(), (std::vector<int>{1, 4, 7}));
+  EXPECT_EQ(Sequence(in).followed_frames(), (std::vector<int>{1, 3, 4, 6, 7}));  // 8 is after the end
+  in.skipped_frames = SkippedFrames::Ignore;
+  EXPECT_EQ(Sequence(in).followed_frames(), (std::vector<int>{1, 4, 7}));
+  in.skipped_frames = SkippedFrames::Follow;
+  in.frames = "6-8";  // consecutive frames on disk: nothing between them
+  EXPECT_EQ(Sequence(in).followed_frames(), Sequence(in).frames());
+}
+
 TEST(Options, DefaultsAndValidation) {
   TrackingOptions o;
   EXPECT_NO_THROW(o.validate());
