@@ -265,6 +265,11 @@ class PatchTexturing final : public Texturing {
     StepReport step = tracker_.step(work.mesh, work.frame, dt);
     FrameStats& fs = work.stats;
     for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+    if (first) {
+      const TrackingOptions& o = tracker_.settings().method;
+      reporter.verbose("radius d " + std::to_string(o.d()) + ", thickness cs " + std::to_string(o.cs()) +
+                       ", max projection mpt " + std::to_string(o.mpt()));
+    }
     if (!work.written) {
       add_counters(followed_, step);
       return;
@@ -287,11 +292,6 @@ class PatchTexturing final : public Texturing {
     for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
     fs.extra.emplace_back("surface_area", tracker_.surface()->area());
     failed_ += static_cast<std::size_t>(step.failed);
-    if (first) {
-      const TrackingOptions& o = tracker_.settings().method;
-      reporter.verbose("radius d " + std::to_string(o.d()) + ", thickness cs " + std::to_string(o.cs()) +
-                       ", max projection mpt " + std::to_string(o.mpt()));
-    }
     if (options_.output.debug_views) write_debug_views(work);
     work.surface = tracker_.shared_surface();
     work.patches = tracker_.patches();
