@@ -9,6 +9,7 @@
 #   scripts/realdata_compare.sh [OUTDIR]
 #   ATLAS=2048 (atlas size)  SCENES="slosh drop obstacle"  FRAMES_slosh=1-48 ...
 #   VARIANTS="patches flowmap" (default: all five)
+#   RUN_OPTIONS="--skipped-frames ignore" (added to every run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/realdata}
@@ -20,6 +21,7 @@ mkdir -p "$out"
 [[ -d $data ]] || { echo "no real data at $data" >&2; exit 2; }
 
 variants=" ${VARIANTS:-patches elastic paper flowmap advect} "
+read -r -a run_options <<<"${RUN_OPTIONS:-}"
 run() {  # name scene [run options...]
   local name=$1 scene=$2
   shift 2
@@ -29,7 +31,7 @@ run() {  # name scene [run options...]
   [[ -n ${!frames_var:-} ]] && frames=(--frames "${!frames_var}")
   if [[ ! -f "$out/$name/eval/summary.json" ]]; then
     /usr/bin/time -f "%e" -o "$out/$name.time" "$bin" run -q -i "$pattern" -e "$exemplar" -o "$out/$name" \
-      --atlas-size "$atlas" "${frames[@]}" "$@"
+      --atlas-size "$atlas" "${frames[@]}" "$@" "${run_options[@]}"
     "$bin" eval -q -i "$pattern" "${frames[@]}" -o "$out/$name"
   fi
 }
