@@ -20,7 +20,7 @@ namespace fluidtex {
 /// What a run does with the frames that a stepped range (`1-120x2`) skips.
 enum class SkippedFrames {
   Follow,  ///< read them and carry the patches through their velocities, write nothing for them
-  Ignore,  ///< one step of v·Δt across the gap: faster, but a fast sheet outruns it
+  Ignore,  ///< one step of v·Δt across the gap: less tracking, but a fast sheet outruns it
 };
 inline constexpr EnumName<SkippedFrames> kSkippedFramesNames[] = {{SkippedFrames::Follow, "follow"},
                                                                   {SkippedFrames::Ignore, "ignore"}};
@@ -52,7 +52,7 @@ struct InputOptions {
     f(OptionInfo{.name = "skipped-frames",
                  .help = "Frames on disk that a stepped range skips (1-120x2): follow (read them and carry the "
                          "texture through their velocities, so each written frame is the every-frame run's) or "
-                         "ignore (one step across the gap: faster, but fast liquid outruns it)"},
+                         "ignore (one step across the gap: less tracking, but fast liquid outruns it)"},
       o.skipped_frames);
     f(OptionInfo{.name = "fps", .help = "Frames per second; the frame step is 1/fps", .bounds = above(0)}, o.fps);
     f(OptionInfo{.name = "velocity-attr",
