@@ -756,20 +756,18 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   InputOptions input = options.input;
   input.skipped_frames = SkippedFrames::Follow;
   const Sequence sequence(input);
-  const std::vector<int> followed = sequence.followed_frames();
-  std::optional<Sequence> between;
-  if (followed.size() > sequence.size()) {
-    input.frames = format_frame_range(followed);
-    between.emplace(input);
-  }
+  const Sequence read = sequence.followed();  // what the frames are read from
+  const std::vector<int>& followed = read.frames();
+  auto load = [&](std::vector<int>::const_iterator at) {
+    return std::make_shared<const FrameMesh>(read.load(static_cast<std::size_t>(at - followed.begin())));
+  };
   auto motion_between = [&](int from, int to) {
     const auto first = std::upper_bound(followed.begin(), followed.end(), from);
     const auto last = std::lower_bound(first, followed.end(), to);
     LiquidMotion motion((first == last ? to - from : *first - from) / options.input.fps);
     for (auto it = first; it != last; ++it) {
       const int next = it + 1 == last ? to : *(it + 1);
-      motion.add_step(std::make_shared<const FrameMesh>(between->load(static_cast<std::size_t>(it - followed.begin()))),
-                      (next - *it) / options.input.fps);
+      motion.add_step(load(it), (next - *it) / options.input.fps);
     }
     return motion;
   };
@@ -790,12 +788,9 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int frame = sequence.frames()[i];
     reporter.progress(i, sequence.size(), "eval");
-    // With the frames between on disk, velocities from positions are central
-    // differences over them, as a run that follows them reads them.
-    auto mesh = std::make_shared<const FrameMesh>(
-        between ? between->load(static_cast<std::size_t>(std::lower_bound(followed.begin(), followed.end(), frame) -
-                                                         followed.begin()))
-                : sequence.load(i));
+    // Read among the frames between (velocities from positions are central
+    // differences over them, as a run that follows them reads them).
+    auto mesh = load(std::lower_bound(followed.begin(), followed.end(), frame));
     TexturedFrame current = read_run_frame(atlas_pattern, mesh_pattern, frame);
     Row row{{"frame", frame}};
     const std::string state = state_path(options.run_dir, frame);

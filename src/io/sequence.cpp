@@ -63,6 +63,14 @@ std::vector<int> Sequence::followed_frames() const {
   return followed;
 }
 
+Sequence Sequence::followed() const {
+  const std::vector<int> frames = followed_frames();
+  if (frames.size() == frames_.size()) return *this;
+  InputOptions input = options_;
+  input.frames = format_frame_range(frames);
+  return Sequence(input);
+}
+
 namespace {
 
 /// --velocity-from-positions reads vertex i of two frames as one point of

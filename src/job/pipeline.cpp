@@ -518,14 +518,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   const Sequence written_frames(options.input);
   // The frames stepped through: the written ones and, with --skipped-frames
   // follow, the frames on disk that a stepped range skips.
-  std::optional<Sequence> followed;
-  if (const std::vector<int> frames = written_frames.followed_frames(); frames.size() > written_frames.size()) {
-    InputOptions input = options.input;
-    input.frames = format_frame_range(frames);
-    followed.emplace(input);
-  }
-  const Sequence& sequence = followed ? *followed : written_frames;
-  if (followed) {
+  const Sequence sequence = written_frames.followed();
+  if (sequence.size() > written_frames.size()) {
     reporter.info("following " + std::to_string(sequence.size() - written_frames.size()) +
                   " frames on disk between the " + std::to_string(written_frames.size()) +
                   " written (--skipped-frames follow)");

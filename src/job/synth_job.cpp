@@ -131,7 +131,7 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
   options.output.provenance = settings_hash(record);
   const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
   const std::vector<int> todo = frames_to_synthesise(record, options, wanted, request, reporter);
-  const Sequence sequence(options.input);
+  const Sequence sequence = Sequence(options.input).followed();  // read as the run read it
   const Exemplar exemplar = load_exemplar(options.exemplar, options.synthesis.displacement);
 
   const std::string stats_path = synth_stats_path(request.dir, wanted);

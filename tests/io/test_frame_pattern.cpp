@@ -190,6 +190,36 @@ TEST(Sequence, AStepRangeFollowsTheFramesOnDiskBetweenItsFrames) {
   EXPECT_EQ(Sequence(in).followed_frames(), Sequence(in).frames());
 }
 
+TEST(Sequence, TheFollowedSequenceDerivesVelocitiesOverTheFramesBetween) {
+  // A grid moving along x by f²/2 and stretching by f³: at frame 4 the
+  // central differences over frames 3 and 5 (what a run following 1-7x3
+  // reads) differ from those over 1 and 7 (the stepped range alone).
+  test::TempDir dir;
+  std::vector<int> order(16);
+  for (int k = 0; k < 16; ++k) order[k] = k;
+  for (int f = 1; f <= 7; ++f) {
+    test::write_file(dir.path() / FramePattern("g.####.obj").path(f),
+                     grid_obj(4, Vec3(0.5 * f * f, 0, 0), 1.0 + 0.002 * f * f * f, order));
+  }
+  InputOptions in;
+  in.pattern = dir.file("g.####.obj");
+  in.velocity_from_positions = true;
+  in.fps = 1;
+  in.frames = "1-7";
+  const FrameMesh every = Sequence(in).load(3);  // frame 4
+  in.frames = "1-7x3";
+  const Sequence stepped(in);
+  const Sequence followed = stepped.followed();
+  ASSERT_EQ(followed.frames(), (std::vector<int>{1, 2, 3, 4, 5, 6, 7}));
+  const FrameMesh through = followed.load(3);
+  const FrameMesh across = stepped.load(1);
+  ASSERT_EQ(through.velocities.size(), every.velocities.size());
+  for (std::size_t v = 0; v < every.velocities.size(); ++v) EXPECT_EQ(through.velocities[v], every.velocities[v]) << v;
+  EXPECT_NE(across.velocities.back(), every.velocities.back());  // the stepped range alone: other neighbours
+  in.skipped_frames = SkippedFrames::Ignore;
+  EXPECT_EQ(Sequence(in).followed().frames(), stepped.frames());
+}
+
 TEST(Options, DefaultsAndValidation) {
   TrackingOptions o;
   EXPECT_NO_THROW(o.validate());

@@ -110,6 +110,11 @@ class Sequence {
   /// velocities come from one) that lies between two of them, ascending.
   std::vector<int> followed_frames() const;
 
+  /// This sequence over followed_frames(): the frames a run reads (and
+  /// derives velocities from positions over), a copy of this one when
+  /// nothing lies between its frames.
+  Sequence followed() const;
+
  private:
   InputOptions options_;
   FramePattern pattern_;
