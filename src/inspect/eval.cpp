@@ -764,10 +764,10 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   auto motion_between = [&](int from, int to) {
     const auto first = std::upper_bound(followed.begin(), followed.end(), from);
     const auto last = std::lower_bound(first, followed.end(), to);
-    LiquidMotion motion((first == last ? to - from : *first - from) / options.input.fps);
+    LiquidMotion motion((first == last ? to - from : *first - from) / read.fps());
     for (auto it = first; it != last; ++it) {
       const int next = it + 1 == last ? to : *(it + 1);
-      motion.add_step(load(it), (next - *it) / options.input.fps);
+      motion.add_step(load(it), (next - *it) / read.fps());
     }
     return motion;
   };

@@ -42,7 +42,7 @@ void draw_overlays(const PreviewOptions& options, const Sequence& sequence, int 
     if (options.states) draw_disk_states(canvas, tracker.patches(), std::max(3.0, r.camera.width / 150.0));
   }
   if (options.velocity)
-    draw_velocities(canvas, *frame_mesh, options.velocity_scale / options.input.fps, options.arrow_spacing);
+    draw_velocities(canvas, *frame_mesh, options.velocity_scale / sequence.fps(), options.arrow_spacing);
 }
 
 }  // namespace

@@ -348,6 +348,23 @@ CleanReport clean_frame(const std::string& path, FrameMesh& mesh, const CleanOpt
   return cleaned;
 }
 
+std::optional<double> read_stated_fps(const std::string& path) {
+  if (lower_extension(path) != ".ply") return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  std::string header;
+  constexpr std::size_t kLongestHeader = 1 << 20;
+  for (char chunk[4096]; header.find("end_header") == std::string::npos && header.size() < kLongestHeader;) {
+    in.read(chunk, sizeof chunk);
+    if (in.gcount() <= 0) break;
+    header.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
+  try {
+    return stated_fps(parse_ply_header(path, header).comments);
+  } catch (const InputError&) {
+    return std::nullopt;  // reading the frame reports what is wrong with it
+  }
+}
+
 FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanReport* report) {
   require_regular_file(path, "mesh file");
 

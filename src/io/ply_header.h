@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -45,7 +47,8 @@ enum class PlyFormat { Ascii, BinaryLE, BinaryBE };
 struct PlyHeader {
   PlyFormat format = PlyFormat::Ascii;
   std::vector<PlyElement> elements;
-  std::size_t body_offset = 0;  ///< first byte after the end_header line
+  std::vector<std::string> comments;  ///< text of the comment and obj_info lines, in order
+  std::size_t body_offset = 0;        ///< first byte after the end_header line
 };
 
 /// Where the data OpenMesh must deliver lives, by element and property index.
@@ -111,7 +114,12 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
     auto bad = [&](const std::string& why) {
       return InputError(path, "malformed PLY header line " + std::to_string(line_no) + ": " + why);
     };
-    if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
+    if (!tok.empty() && (tok[0] == "comment" || tok[0] == "obj_info")) {
+      const std::size_t start = text.find(tok[0]) + tok[0].size();
+      h.comments.push_back(text.substr(std::min(text.size(), start + 1)));
+      continue;
+    }
+    if (tok.empty()) continue;
     if (tok[0] == "end_header") break;
     if (tok[0] == "format") {
       if (tok.size() < 2) throw bad("format line without a format");
@@ -151,6 +159,30 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
   if (!have_format) throw InputError(path, "malformed PLY header: no format line");
   h.body_offset = pos;
   return h;
+}
+
+/// The frame rate a header comment states, as exporters write it: "fps=24",
+/// "fps 24", "fps: 23.976" (any case; the first statement of a positive,
+/// finite rate wins). nullopt when no comment states one.
+inline std::optional<double> stated_fps(const std::vector<std::string>& comments) {
+  const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (const std::string& comment : comments) {
+    std::string lower = comment;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (std::size_t at = lower.find("fps"); at != std::string::npos; at = lower.find("fps", at + 1)) {
+      if (at > 0 && word_char(lower[at - 1])) continue;
+      std::size_t i = at + 3;
+      while (i < lower.size() && lower[i] == ' ') ++i;
+      if (i < lower.size() && (lower[i] == '=' || lower[i] == ':')) ++i;
+      while (i < lower.size() && lower[i] == ' ') ++i;
+      double fps = 0.0;
+      const auto [end, ec] = std::from_chars(lower.data() + i, lower.data() + lower.size(), fps);
+      if (ec != std::errc() || end == lower.data() + i) continue;
+      if (end != lower.data() + lower.size() && (word_char(*end) || *end == '.')) continue;
+      if (std::isfinite(fps) && fps > 0.0) return fps;
+    }
+  }
+  return std::nullopt;
 }
 
 /// Reads one list count at `at` of a binary body (the caller checked bounds).

@@ -42,6 +42,8 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
     velocity_pattern_.emplace(options_.velocity_vdb);
     for (int f : frames_) require_regular_file(velocity_pattern_->path(f), "velocity VDB of frame " + std::to_string(f));
   }
+  stated_fps_ = read_stated_fps(pattern_.path(frames_.front()));
+  if (!options_.fps) options_.fps = stated_fps_.value_or(kDefaultFps);
 }
 
 std::vector<int> Sequence::followed_frames() const {
@@ -139,7 +141,7 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
     };
     const std::vector<Vec3> before = positions_of(lo);
     const std::vector<Vec3> after = positions_of(hi);
-    const double seconds = static_cast<double>(frames_[hi] - frames_[lo]) / options_.fps;
+    const double seconds = static_cast<double>(frames_[hi] - frames_[lo]) / fps();
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
       mesh.velocities[v] = (after[v] - before[v]) / seconds;
     }

@@ -507,15 +507,34 @@ JobRecord claim_job(const JobOptions& options, const Sequence& sequence, Reporte
   return record;
 }
 
+/// Says where the frame rate comes from, and warns when --fps contradicts
+/// the rate the input's header states.
+void report_frame_rate(const InputOptions& input, const Sequence& sequence, Reporter& reporter) {
+  const std::string first = sequence.path_of(sequence.frames().front());
+  const std::optional<double> stated = sequence.stated_fps();
+  const std::string fps = option_detail::format_number(sequence.fps());
+  if (input.fps && stated && std::abs(*stated - *input.fps) > 1e-6 * *stated) {
+    reporter.warn("--fps " + fps + " given, but " + first + " states " + option_detail::format_number(*stated) +
+                  " fps in its header: the frame step is 1/" + fps + " s, as given");
+  } else if (!input.fps) {
+    reporter.info(fps + " fps" +
+                  (stated ? ", as " + first + " states in its header"
+                          : " (the default: " + first + " states no frame rate; --fps sets it)"));
+  }
+}
+
 }  // namespace
 
-JobSummary run_job(const JobOptions& options, Reporter& reporter) {
+JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
   const auto start = Clock::now();
-  options.validate();
+  requested.validate();
   // A run owns its whole folder: other machines' temporaries go too.
-  if (const std::size_t stale = remove_interrupted_temporaries(options, [](const std::string&) { return true; }))
+  if (const std::size_t stale = remove_interrupted_temporaries(requested, [](const std::string&) { return true; }))
     reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
-  const Sequence written_frames(options.input);
+  const Sequence written_frames(requested.input);
+  report_frame_rate(requested.input, written_frames, reporter);
+  JobOptions options = requested;  // with the frame rate job.toml records, eval and synth read
+  options.input.fps = written_frames.fps();
   // The frames stepped through: the written ones and, with --skipped-frames
   // follow, the frames on disk that a stepped range skips.
   const Sequence sequence = written_frames.followed();
@@ -569,8 +588,8 @@ JobSummary run_job(const JobOptions& options, Reporter& reporter) {
   };
   auto track = [&](WorkPtr work) {
     reporter.progress(work->index, sequence.size(), "track");
-    const double dt = previous_frame == -1 ? 1.0 / options.input.fps
-                                           : static_cast<double>(work->frame - previous_frame) / options.input.fps;
+    const double dt = previous_frame == -1 ? 1.0 / sequence.fps()
+                                           : static_cast<double>(work->frame - previous_frame) / sequence.fps();
     isolated_stage([&] { method->track(*work, dt, work->index == first, reporter); });
     previous_frame = work->frame;
     // A written frame's seconds include those of the frames followed since

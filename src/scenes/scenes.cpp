@@ -23,6 +23,7 @@
 #include "fluidtex/io/vdb_io.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/options.h"
 #include "scene_detail.h"
 
 namespace fluidtex {
@@ -385,12 +386,13 @@ FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptio
   return detail::make_drop_frame(frame, options);
 }
 
-void write_frame_ply(const std::string& path, const FrameMesh& mesh) {
+void write_frame_ply(const std::string& path, const FrameMesh& mesh, std::optional<double> fps) {
   if (mesh.velocities.size() != mesh.positions.size()) {
     throw InternalError(path + ": mesh has " + std::to_string(mesh.velocities.size()) + " velocities for " +
                         std::to_string(mesh.positions.size()) + " vertices");
   }
   std::string data = "ply\nformat binary_little_endian 1.0\ncomment fluidtex example scene\n";
+  if (fps) data += "comment fps=" + option_detail::format_number(*fps) + "\n";
   data += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
   for (const char* name : {"x", "y", "z", "vx", "vy", "vz"}) data += std::string("property float ") + name + "\n";
   data += "element face " + std::to_string(mesh.triangles.size()) + "\n";
@@ -425,7 +427,7 @@ std::string write_scene(const std::string& scene, const std::string& dir, const 
       write_vdb_frame(frame_path(frame), mesh,
                       {.voxel_size = detail::drop_voxel_size(options), .staggered = options.staggered});
     } else {
-      write_frame_ply(frame_path(frame), mesh);
+      write_frame_ply(frame_path(frame), mesh, options.fps);
     }
   });
   return pattern;

@@ -253,6 +253,34 @@ TEST(Cli, ResumeContinuesFromTheLastState) {
   EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 4) << stats;
 }
 
+TEST(Cli, TheFrameRateIsTheOneTheInputStatesUnlessGiven) {
+  // gen --fps 12 states the rate in every frame's header; run takes it from
+  // there, records it in job.toml, and warns when --fps says otherwise.
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) +
+                             " --frames 3 --resolution 12 --fps 12 --exemplar gravel --exemplar-size 32",
+                         &out),
+            0)
+      << out;
+  const std::string base =
+      "run -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) + " --atlas-size 64 ";
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("stated")), &out), 0) << out;
+  EXPECT_NE(out.find("12 fps, as " + dir.file("rotation.0001.ply") + " states in its header"), std::string::npos)
+      << out;
+  EXPECT_NE(test::read_file(dir.path() / "stated" / "job.toml").find("\nfps=12\n"), std::string::npos);
+  ASSERT_EQ(run_fluidtex(base + "-q -o " + q(dir.file("given")) + " --fps 12", &out), 0) << out;
+  EXPECT_EQ(out, "");
+  ASSERT_EQ(run_fluidtex(base + "-q -o " + q(dir.file("other")) + " --fps 24", &out), 0) << out;
+  EXPECT_NE(out.find("warning: --fps 24 given, but " + dir.file("rotation.0001.ply") + " states 12 fps"),
+            std::string::npos)
+      << out;
+  const std::string stated = test::read_file(dir.path() / "stated" / "atlas.0003.exr");
+  EXPECT_FALSE(stated.empty());
+  EXPECT_TRUE(stated == test::read_file(dir.path() / "given" / "atlas.0003.exr"));
+  EXPECT_FALSE(stated == test::read_file(dir.path() / "other" / "atlas.0003.exr"));
+}
+
 /// The numbers of one key in a run's stats.jsonl, by frame.
 std::map<int, double> stats_numbers(const fs::path& stats_path, const std::string& key) {
   std::map<int, double> out;

@@ -4,6 +4,7 @@
 
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/util/error.h"
 #include "test_util.h"
@@ -218,6 +219,30 @@ TEST(Sequence, TheFollowedSequenceDerivesVelocitiesOverTheFramesBetween) {
   EXPECT_NE(across.velocities.back(), every.velocities.back());  // the stepped range alone: other neighbours
   in.skipped_frames = SkippedFrames::Ignore;
   EXPECT_EQ(Sequence(in).followed().frames(), stepped.frames());
+}
+
+TEST(Sequence, TheFrameRateIsTheOneTheFirstFrameStatesUnlessGiven) {
+  test::TempDir dir;
+  FrameMesh mesh;
+  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  mesh.velocities = {Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0)};
+  mesh.triangles = {Tri{0, 1, 2}};
+  for (int f = 1; f <= 3; ++f) write_frame_ply(dir.file(FramePattern("s.####.ply").path(f)), mesh, 30.0);
+  for (int f = 1; f <= 2; ++f) write_frame_ply(dir.file(FramePattern("n.####.ply").path(f)), mesh);
+  InputOptions in;
+  in.pattern = dir.file("s.####.ply");
+  const Sequence stated(in);
+  EXPECT_EQ(stated.stated_fps(), 30.0);
+  EXPECT_EQ(stated.fps(), 30.0);
+  in.frames = "1-3x2";
+  EXPECT_EQ(Sequence(in).followed().fps(), 30.0);
+  in.fps = 24.0;  // given: it wins
+  EXPECT_EQ(Sequence(in).fps(), 24.0);
+  EXPECT_EQ(Sequence(in).stated_fps(), 30.0);
+  in = InputOptions{};
+  in.pattern = dir.file("n.####.ply");
+  EXPECT_EQ(Sequence(in).stated_fps(), std::nullopt);
+  EXPECT_EQ(Sequence(in).fps(), Sequence::kDefaultFps);
 }
 
 TEST(Options, DefaultsAndValidation) {

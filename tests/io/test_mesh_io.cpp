@@ -358,6 +358,41 @@ TEST(MeshIo, BadInputGivesOneLineErrors) {
 
 // --- Cleaning --------------------------------------------------------------------------
 
+TEST(MeshIo, AHeaderCommentStatesTheFrameRate) {
+  // As exporters write it: the shared Blender caches ("fps=24"), fluidtex's
+  // own Blender exporter ("fps 24,"), and other spellings a person would
+  // read as a frame rate. Anything else states none.
+  TempDir dir;
+  auto stated = [&](const std::string& header_lines, const char* name = "f.ply") {
+    const std::string path = dir.file(name);
+    write_file(path, "ply\nformat ascii 1.0\n" + header_lines +
+                         "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                         "property float vx\nproperty float vy\nproperty float vz\n"
+                         "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                         "0 0 0 0 0 0\n1 0 0 0 0 0\n0 1 0 0 0 0\n3 0 1 2\n");
+    return read_stated_fps(path);
+  };
+  EXPECT_EQ(stated("comment Blender 3.4.1 Mantaflow FLIP liquid surface, scene=slosh frame=1 fps=24\n"), 24.0);
+  EXPECT_EQ(stated("comment export_fluid.py: Blender 3.6.0, object Liquid, frame 3, fps 29.97, velocity from "
+                   "attribute\n"),
+            29.97);
+  EXPECT_EQ(stated("comment made by hand\ncomment FPS: 25\n"), 25.0);
+  EXPECT_EQ(stated("obj_info fps=50\n"), 50.0);
+  EXPECT_EQ(stated("comment fps=abc\ncomment then fps = 12\n"), 12.0);  // the first that states one
+  for (const char* none : {"", "comment no rate here\n", "comment maxfps=60\n", "comment fps=0\n", "comment fps=-24\n",
+                           "comment fps=24x\n", "comment fps 1.5.2\n", "comment fps\n"}) {
+    EXPECT_EQ(stated(none), std::nullopt) << none;
+  }
+  // Not a PLY, or not a readable one: the frame's reading says why.
+  write_file(dir.file("f.obj"), "# fps=24\nv 0 0 0\n");
+  EXPECT_EQ(read_stated_fps(dir.file("f.obj")), std::nullopt);
+  write_file(dir.file("bad.ply"), "ply\ncomment fps=24\n");  // no format, no end_header
+  EXPECT_EQ(read_stated_fps(dir.file("bad.ply")), std::nullopt);
+  EXPECT_EQ(read_stated_fps(dir.file("missing.ply")), std::nullopt);
+  // Reading the frame takes no notice of the comment.
+  EXPECT_EQ(read_frame(dir.file("f.ply")).num_faces(), 1u);
+}
+
 TEST(MeshClean, MergesDropsAndRenumbers) {
   FrameMesh m;
   // 0..3: a square split in two; 4 duplicates 2's position; 5 unreferenced;

@@ -173,7 +173,7 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
   double first_density = 0.0;
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int f = sequence.frames()[i];
-    const StepReport r = tracker.step(std::make_shared<const FrameMesh>(sequence.load(i)), f, 1.0 / in.fps);
+    const StepReport r = tracker.step(std::make_shared<const FrameMesh>(sequence.load(i)), f, 1.0 / sequence.fps());
     const double mpt = tracker.settings().method.mpt();
     for (const Patch& born : tracker.patches()) {
       if (i == 0 || born.created_frame != f) continue;

@@ -11,6 +11,7 @@
 /// vertex_index, and extra elements/properties are ignored.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "fluidtex/geometry/mesh.h"
@@ -48,6 +49,12 @@ struct ReadOptions {
 /// degenerate. Safe to call from several threads (the OpenMesh parse itself
 /// is serialised: its readers are process-wide singletons).
 FrameMesh read_frame(const std::string& path, const ReadOptions& options = {}, CleanReport* report = nullptr);
+
+/// The frame rate the header of the PLY file at `path` states in a comment
+/// (`comment ... fps=24`, or `fps 24` as fluidtex's Blender exporter writes
+/// it); nullopt for other formats, a header that states none, or a file that
+/// cannot be read as PLY (read_frame says why).
+std::optional<double> read_stated_fps(const std::string& path);
 
 /// clean_mesh() on the frame read from `path`; InputError naming the file
 /// when no face is left.

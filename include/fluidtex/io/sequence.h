@@ -31,7 +31,7 @@ struct InputOptions {
   std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
   std::string frames;                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
   SkippedFrames skipped_frames = SkippedFrames::Follow;  ///< --skipped-frames
-  double fps = 24.0;                     ///< frames per second; dt = 1/fps
+  std::optional<double> fps;                             ///< frames per second, dt = 1/fps; unset: Sequence::fps()
   std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
   bool velocity_from_positions = false;  ///< derive velocities by central differences
   bool strict = false;                   ///< reject non-manifold frames instead of carrying on
@@ -54,7 +54,11 @@ struct InputOptions {
                          "texture through their velocities, so each written frame is the every-frame run's) or "
                          "ignore (one step across the gap: less tracking, but fast liquid outruns it)"},
       o.skipped_frames);
-    f(OptionInfo{.name = "fps", .help = "Frames per second; the frame step is 1/fps", .bounds = above(0)}, o.fps);
+    f(OptionInfo{.name = "fps",
+                 .help = "Frames per second; the frame step is 1/fps (auto: the rate the first frame's PLY header "
+                         "states in a comment, as 'fps=30' or 'fps 30', else 24)",
+                 .bounds = above(0)},
+      o.fps);
     f(OptionInfo{.name = "velocity-attr",
                  .help = "Velocity property names 'a,b,c' or a prefix P (P_x or Px...); default: vx vy vz, "
                          "velocity_x..., v_x..."},
@@ -91,6 +95,13 @@ class Sequence {
   /// every frame found on disk (InputError when there is none).
   explicit Sequence(const InputOptions& options);
 
+  /// The frame rate: --fps when given, else the rate the first frame's
+  /// header states (stated_fps()), else kDefaultFps.
+  double fps() const { return *options_.fps; }
+  /// What the first frame's PLY header states in a comment (read_stated_fps()).
+  std::optional<double> stated_fps() const { return stated_fps_; }
+  static constexpr double kDefaultFps = 24.0;
+
   const std::vector<int>& frames() const { return frames_; }
   std::size_t size() const { return frames_.size(); }
   std::string path_of(int frame) const { return pattern_.path(frame); }
@@ -120,6 +131,7 @@ class Sequence {
   FramePattern pattern_;
   std::optional<FramePattern> velocity_pattern_;
   std::vector<int> frames_;
+  std::optional<double> stated_fps_;
 };
 
 }  // namespace fluidtex

@@ -26,6 +26,7 @@
 /// frame f+1 over dt = 1/fps; frame f is at time (f - 1) / fps.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,8 @@ FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptio
 std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options);
 
 /// Writes one frame as binary little-endian PLY with float `x y z vx vy vz`,
-/// atomically (used by `gen` and by tests).
-void write_frame_ply(const std::string& path, const FrameMesh& mesh);
+/// atomically (used by `gen` and by tests); with `fps`, a header comment
+/// states the frame rate (`comment fps=24`), which `run` reads.
+void write_frame_ply(const std::string& path, const FrameMesh& mesh, std::optional<double> fps = std::nullopt);
 
 }  // namespace fluidtex
