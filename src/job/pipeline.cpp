@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <numeric>
@@ -259,7 +260,7 @@ class PatchTexturing final : public Texturing {
   /// `resumed_state`: the state file the tracker was loaded from (empty when fresh).
   PatchTexturing(Tracker tracker, const JobOptions& options, const Exemplar* exemplar, std::string resumed_state)
       : tracker_(std::move(tracker)), options_(options), exemplar_(exemplar), write_state_(options.output.write_state),
-        last_state_(std::move(resumed_state)) {}
+        resumed_(!resumed_state.empty()), last_state_(std::move(resumed_state)) {}
 
   void track(Work& work, double dt, bool first, Reporter& reporter) override {
     StepReport step = tracker_.step(work.mesh, work.frame, dt);
@@ -269,7 +270,9 @@ class PatchTexturing final : public Texturing {
       const TrackingOptions& o = tracker_.settings().method;
       reporter.verbose("radius d " + std::to_string(o.d()) + ", thickness cs " + std::to_string(o.cs()) +
                        ", max projection mpt " + std::to_string(o.mpt()));
+      if (!resumed_) first_area_ = tracker_.surface()->area(), first_frame_ = work.frame;
     }
+    warn_of_growth(work.frame, reporter);
     if (!work.written) {
       add_counters(followed_, step);
       return;
@@ -346,6 +349,24 @@ class PatchTexturing final : public Texturing {
     sum.retired.insert(sum.retired.end(), next.retired.begin(), next.retired.end());
   }
 
+  /// The automatic radius comes from the first frame's size. Liquid that
+  /// starts small (an inflow, a tap) then gets patches for its first size:
+  /// their number grows with the surface. Said once, when the surface has
+  /// grown kGrowthWarning times, with what to do about it.
+  void warn_of_growth(int frame, Reporter& reporter) {
+    static constexpr double kGrowthWarning = 10.0;
+    if (growth_warned_ || options_.tracking.radius || !(first_area_ > 0.0)) return;
+    const double growth = tracker_.surface()->area() / first_area_;
+    if (!(growth >= kGrowthWarning)) return;
+    growth_warned_ = true;
+    char text[64];
+    std::snprintf(text, sizeof text, "%.1f", growth);
+    reporter.warn("frame " + std::to_string(frame) + ": the liquid's surface is " + text + " times frame " +
+                  std::to_string(first_frame_) + "'s, whose size set the patch radius (--radius auto: d = " +
+                  option_detail::format_number(tracker_.settings().method.d()) +
+                  "), so the patches multiply with it: for liquid that starts small, give --radius");
+  }
+
   void write_debug_views(Work& work) const {
     const ScopedStage stage(work.stats.seconds, "debug");
     const std::string dir = options_.output.dir + "/debug";
@@ -357,9 +378,13 @@ class PatchTexturing final : public Texturing {
   const JobOptions& options_;
   const Exemplar* exemplar_;
   bool write_state_;
+  bool resumed_;                    // the tracker comes from a state: its radius from an earlier run's first frame
   mutable std::string last_state_;  // finish() runs serially, in frame order
   std::size_t failed_ = 0;
   StepReport followed_;  // the counters of the steps into frames followed since the last written one
+  double first_area_ = 0.0;  // of the first frame's surface (0 when resumed)
+  int first_frame_ = 0;
+  bool growth_warned_ = false;
 };
 
 /// The two-phase advected-uv baseline: its "track" stage carries the two uv
