@@ -297,9 +297,9 @@ void add_info(CLI::App& app, int& exit_code) {
     std::vector<FrameInfo> frames(sequence.size());
     for (std::size_t i = 0; i < sequence.size(); ++i) frames[i] = inspect_frame(sequence, i);
     if (*json)
-      std::cout << format_info_json(frames, sequence.fps(), in->pattern);
+      std::cout << format_info_json(frames, sequence.fps(), sequence.fps_source(), in->pattern);
     else
-      std::cout << "sequence " << in->pattern << "\n" << format_info(frames, sequence.fps());
+      std::cout << "sequence " << in->pattern << "\n" << format_info(frames, sequence.fps(), sequence.fps_source());
     bool bad = false;
     for (const FrameInfo& f : frames) bad = bad || !f.error.empty();
     exit_code = bad ? 2 : 0;

@@ -43,7 +43,10 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
     for (int f : frames_) require_regular_file(velocity_pattern_->path(f), "velocity VDB of frame " + std::to_string(f));
   }
   stated_fps_ = read_stated_fps(pattern_.path(frames_.front()));
-  if (!options_.fps) options_.fps = stated_fps_.value_or(kDefaultFps);
+  if (!options_.fps) {
+    options_.fps = stated_fps_.value_or(kDefaultFps);
+    fps_source_ = stated_fps_ ? "header" : "default";
+  }
 }
 
 std::vector<int> Sequence::followed_frames() const {

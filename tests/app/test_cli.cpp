@@ -263,6 +263,8 @@ TEST(Cli, TheFrameRateIsTheOneTheInputStatesUnlessGiven) {
                          &out),
             0)
       << out;
+  ASSERT_EQ(run_fluidtex("info --json -i " + q(dir.file("rotation.####.ply")), &out), 0) << out;
+  EXPECT_NE(out.find("\"fps\":12,\"fps_source\":\"header\""), std::string::npos) << out;
   const std::string base =
       "run -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("gravel.png")) + " --atlas-size 64 ";
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("stated")), &out), 0) << out;

@@ -100,6 +100,8 @@ class Sequence {
   double fps() const { return *options_.fps; }
   /// What the first frame's PLY header states in a comment (read_stated_fps()).
   std::optional<double> stated_fps() const { return stated_fps_; }
+  /// Where fps() comes from: "given" (--fps), "header" or "default".
+  const char* fps_source() const { return fps_source_; }
   static constexpr double kDefaultFps = 24.0;
 
   const std::vector<int>& frames() const { return frames_; }
@@ -132,6 +134,7 @@ class Sequence {
   std::optional<FramePattern> velocity_pattern_;
   std::vector<int> frames_;
   std::optional<double> stated_fps_;
+  const char* fps_source_ = "given";
 };
 
 }  // namespace fluidtex
