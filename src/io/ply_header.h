@@ -162,8 +162,8 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
 }
 
 /// The frame rate a header comment states, as exporters write it: "fps=24",
-/// "fps 24", "fps: 23.976" (any case; the first statement of a positive,
-/// finite rate wins). nullopt when no comment states one.
+/// "fps 24", "fps: 23.976", "fps=30000/1001" (any case; the first statement
+/// of a positive, finite rate wins). nullopt when no comment states one.
 inline std::optional<double> stated_fps(const std::vector<std::string>& comments) {
   const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
   for (const std::string& comment : comments) {
@@ -175,10 +175,18 @@ inline std::optional<double> stated_fps(const std::vector<std::string>& comments
       while (i < lower.size() && lower[i] == ' ') ++i;
       if (i < lower.size() && (lower[i] == '=' || lower[i] == ':')) ++i;
       while (i < lower.size() && lower[i] == ' ') ++i;
+      const char* const stop = lower.data() + lower.size();
       double fps = 0.0;
-      const auto [end, ec] = std::from_chars(lower.data() + i, lower.data() + lower.size(), fps);
+      auto [end, ec] = std::from_chars(lower.data() + i, stop, fps);
       if (ec != std::errc() || end == lower.data() + i) continue;
-      if (end != lower.data() + lower.size() && (word_char(*end) || *end == '.')) continue;
+      if (end != stop && *end == '/') {  // a rational rate: 30000/1001
+        double denominator = 0.0;
+        const auto [den_end, den_ec] = std::from_chars(end + 1, stop, denominator);
+        if (den_ec != std::errc() || den_end == end + 1 || !(denominator > 0.0)) continue;
+        fps /= denominator;
+        end = den_end;
+      }
+      if (end != stop && (word_char(*end) || *end == '.' || *end == '/')) continue;
       if (std::isfinite(fps) && fps > 0.0) return fps;
     }
   }

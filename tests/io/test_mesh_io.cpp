@@ -378,9 +378,11 @@ TEST(MeshIo, AHeaderCommentStatesTheFrameRate) {
             29.97);
   EXPECT_EQ(stated("comment made by hand\ncomment FPS: 25\n"), 25.0);
   EXPECT_EQ(stated("obj_info fps=50\n"), 50.0);
+  EXPECT_EQ(stated("comment fps=30000/1001\n"), 30000.0 / 1001.0);
   EXPECT_EQ(stated("comment fps=abc\ncomment then fps = 12\n"), 12.0);  // the first that states one
   for (const char* none : {"", "comment no rate here\n", "comment maxfps=60\n", "comment fps=0\n", "comment fps=-24\n",
-                           "comment fps=24x\n", "comment fps 1.5.2\n", "comment fps\n"}) {
+                           "comment fps=24x\n", "comment fps 1.5.2\n", "comment fps\n", "comment fps=24/0\n",
+                           "comment fps=24/\n", "comment fps=1/2/3\n"}) {
     EXPECT_EQ(stated(none), std::nullopt) << none;
   }
   // Not a PLY, or not a readable one: the frame's reading says why.
