@@ -73,7 +73,9 @@ Sequence Sequence::followed() const {
   if (frames.size() == frames_.size()) return *this;
   InputOptions input = options_;
   input.frames = format_frame_range(frames);
-  return Sequence(input);
+  Sequence sequence(input);
+  sequence.fps_source_ = fps_source_;  // input.fps holds this sequence's rate, given or not
+  return sequence;
 }
 
 namespace {

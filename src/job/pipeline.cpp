@@ -8,6 +8,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <string_view>
 #include <utility>
 
 #include <oneapi/tbb/parallel_pipeline.h>
@@ -534,17 +535,18 @@ JobRecord claim_job(const JobOptions& options, const Sequence& sequence, Reporte
 
 /// Says where the frame rate comes from, and warns when --fps contradicts
 /// the rate the input's header states.
-void report_frame_rate(const InputOptions& input, const Sequence& sequence, Reporter& reporter) {
+void report_frame_rate(const Sequence& sequence, Reporter& reporter) {
   const std::string first = sequence.path_of(sequence.frames().front());
   const std::optional<double> stated = sequence.stated_fps();
   const std::string fps = option_detail::format_number(sequence.fps());
-  if (input.fps && stated && std::abs(*stated - *input.fps) > 1e-6 * *stated) {
+  const std::string_view source = sequence.fps_source();
+  if (source == "given" && stated && std::abs(*stated - sequence.fps()) > 1e-6 * *stated) {
     reporter.warn("--fps " + fps + " given, but " + first + " states " + option_detail::format_number(*stated) +
                   " fps in its header: the frame step is 1/" + fps + " s, as given");
-  } else if (!input.fps) {
-    reporter.info(fps + " fps" +
-                  (stated ? ", as " + first + " states in its header"
-                          : " (the default: " + first + " states no frame rate; --fps sets it)"));
+  } else if (source == "header") {
+    reporter.info(fps + " fps, as " + first + " states in its header");
+  } else if (source == "default") {
+    reporter.info(fps + " fps (the default: " + first + " states no frame rate; --fps sets it)");
   }
 }
 
@@ -557,7 +559,7 @@ JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
   if (const std::size_t stale = remove_interrupted_temporaries(requested, [](const std::string&) { return true; }))
     reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");
   const Sequence written_frames(requested.input);
-  report_frame_rate(requested.input, written_frames, reporter);
+  report_frame_rate(written_frames, reporter);
   JobOptions options = requested;  // with the frame rate job.toml records, eval and synth read
   options.input.fps = written_frames.fps();
   // The frames stepped through: the written ones and, with --skipped-frames

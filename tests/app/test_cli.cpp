@@ -103,7 +103,8 @@ TEST(Cli, InfoReportsABadFrameAndExits2) {
   EXPECT_NE(out.find("ERROR"), std::string::npos) << out;
   // --json: one document, the same facts for scripts.
   EXPECT_EQ(run_fluidtex("info --json -i " + q(dir.file("rotation.####.ply")), &out), 2);
-  EXPECT_TRUE(out.starts_with("{\"sequence\":\"" + dir.file("rotation.####.ply") + "\",\"fps\":24,\"frames\":[{"))
+  EXPECT_TRUE(out.starts_with("{\"sequence\":\"" + dir.file("rotation.####.ply") +
+                              "\",\"fps\":24,\"fps_source\":\"header\",\"frames\":[{"))
       << out;
   EXPECT_TRUE(out.ends_with("],\"errors\":1}\n")) << out;
   EXPECT_NE(out.find("{\"frame\":1,\"path\":"), std::string::npos) << out;

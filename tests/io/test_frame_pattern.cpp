@@ -237,6 +237,7 @@ TEST(Sequence, TheFrameRateIsTheOneTheFirstFrameStatesUnlessGiven) {
   EXPECT_STREQ(stated.fps_source(), "header");
   in.frames = "1-3x2";
   EXPECT_EQ(Sequence(in).followed().fps(), 30.0);
+  EXPECT_STREQ(Sequence(in).followed().fps_source(), "header");
   in.fps = 24.0;  // given: it wins
   EXPECT_EQ(Sequence(in).fps(), 24.0);
   EXPECT_EQ(Sequence(in).stated_fps(), 30.0);
