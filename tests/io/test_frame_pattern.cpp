@@ -7,6 +7,7 @@
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/util/error.h"
+#include "mesh_fixtures.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -223,10 +224,7 @@ TEST(Sequence, TheFollowedSequenceDerivesVelocitiesOverTheFramesBetween) {
 
 TEST(Sequence, TheFrameRateIsTheOneTheFirstFrameStatesUnlessGiven) {
   test::TempDir dir;
-  FrameMesh mesh;
-  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
-  mesh.velocities = {Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0)};
-  mesh.triangles = {Tri{0, 1, 2}};
+  const FrameMesh mesh = test::flat_grid(1, 1.0, 0.0, 0.0, 0.0, [](const Vec3&) { return Vec3(1, 0, 0); });
   for (int f = 1; f <= 3; ++f) write_frame_ply(dir.file(FramePattern("s.####.ply").path(f)), mesh, 30.0);
   for (int f = 1; f <= 2; ++f) write_frame_ply(dir.file(FramePattern("n.####.ply").path(f)), mesh);
   InputOptions in;
