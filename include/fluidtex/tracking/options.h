@@ -101,7 +101,7 @@ struct TrackingOptions {
   double max_distortion = 3.0;           ///< δmax: Sorkine distortion at which Q_T = 0
   double uv_scale = 1.0;                 ///< s: uv scale applied at exemplar lookup
   std::optional<double> max_projection;  ///< mpt: max distance to re-project a vertex; unset = 0.25 × d
-  int fade_frames = 48;                  ///< τ: fading period in frames
+  int fade_frames = 32;                  ///< τ: fading period in frames (48 until 2026-12-05; docs/method.md)
   std::optional<double> thickness;       ///< cs: ellipsoid half-thickness along N; unset = 0.25 × d
   double kill_alpha = 0.25;              ///< α: kill distance is (1 − α)·d (Table 4)
   double min_vertex_quality = 0.5;       ///< Q_vmin: a vertex below this distorts its patch (Table 4)
