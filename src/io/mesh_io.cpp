@@ -382,8 +382,8 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
     const std::string bytes = read_bytes(path);
     mesh = ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
   }
-  if (mesh.positions.empty()) throw InputError(path, "empty mesh (no vertices)");
-  if (mesh.triangles.empty()) throw InputError(path, "empty mesh (no faces)");
+  if (mesh.positions.empty()) throw InputError(path, std::string("empty mesh (no vertices") + kNoLiquidHint + ")");
+  if (mesh.triangles.empty()) throw InputError(path, std::string("empty mesh (no faces") + kNoLiquidHint + ")");
 
   CleanReport cleaned;
   if (options.clean) {

@@ -22,6 +22,9 @@
 
 namespace fluidtex::plyio {
 
+/// What an empty frame's error adds: solvers write frames without liquid.
+inline constexpr const char* kNoLiquidHint = "; a frame without liquid: leave it out of --frames";
+
 enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
 
 struct PlyProperty {
@@ -378,8 +381,13 @@ inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, cons
     if (h.elements[e].name == "vertex" && vi < 0) vi = static_cast<int>(e);
     if (h.elements[e].name == "face" && fi < 0) fi = static_cast<int>(e);
   }
-  if (vi < 0 || h.elements[vi].count == 0) throw InputError(path, "empty mesh (no vertices)");
-  if (fi < 0 || h.elements[fi].count == 0) throw InputError(path, "empty mesh (no faces)");
+  // A header without a vertex or a face element is not a mesh; one whose
+  // elements are empty is a frame without liquid (a solver writes those
+  // before an inflow has filled anything).
+  if (vi < 0) throw InputError(path, "empty mesh (no vertex element)");
+  if (fi < 0) throw InputError(path, "empty mesh (no face element: a point cloud?)");
+  if (h.elements[vi].count == 0) throw InputError(path, std::string("empty mesh (no vertices") + kNoLiquidHint + ")");
+  if (h.elements[fi].count == 0) throw InputError(path, std::string("empty mesh (no faces") + kNoLiquidHint + ")");
   if (fi < vi) throw InputError(path, "unsupported PLY layout: the face element precedes the vertex element");
   l.vertex_element = vi;
   l.face_element = fi;

@@ -346,8 +346,8 @@ TEST(MeshIo, BadInputGivesOneLineErrors) {
   expect_error("negindex.ply", make_ply(bin, s.pos, s.vel, {{0, -1, 2}}), "index -1 out of range");
   expect_error("ascii_index.ply", make_ply({}, s.pos, s.vel, {{0, 1, 2}, {0, 2, 99}}), "index 99 out of range");
 
-  expect_error("nofaces.ply", make_ply(bin, s.pos, s.vel, {}), "empty mesh");
-  expect_error("novertices.ply", make_ply(bin, {}, {}, {}), "empty mesh");
+  expect_error("nofaces.ply", make_ply(bin, s.pos, s.vel, {}), "empty mesh (no faces; a frame without liquid");
+  expect_error("novertices.ply", make_ply(bin, {}, {}, {}), "empty mesh (no vertices; a frame without liquid");
   // Only a zero-area triangle: nothing is left after cleaning.
   expect_error("flat.ply",
                make_ply(bin, {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, std::vector<Vec3>(3, Vec3::Zero()), {{0, 1, 2}}),
