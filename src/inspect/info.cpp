@@ -36,7 +36,7 @@ FrameInfo inspect_frame(const Sequence& sequence, std::size_t index) {
   return info;
 }
 
-std::string format_info(const std::vector<FrameInfo>& frames, double fps, const std::string& fps_source) {
+std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source) {
   std::string out;
   char line[512];
   std::snprintf(line, sizeof line, "%7s %9s %9s %10s %10s %10s %10s  %s\n", "frame", "vertices", "faces", "area",
@@ -79,12 +79,12 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps, const 
     comp_max = std::max(comp_max, f.clean.components);
   }
   const std::size_t good = frames.size() - bad;
-  const std::string from = fps_source == "header"    ? " (as the first frame's header states)"
-                           : fps_source == "default" ? " (the default: the first frame states none; --fps sets it)"
-                                                     : "";
+  const char* from = fps_source == FpsSource::Header    ? " (as the first frame's header states)"
+                     : fps_source == FpsSource::Default ? " (the default: the first frame states none; --fps sets it)"
+                                                        : "";
   std::snprintf(line, sizeof line, "\n%zu frames (%d..%d), %zu readable, %zu with errors; fps %g%s\n", frames.size(),
                 frames.empty() ? 0 : frames.front().frame, frames.empty() ? 0 : frames.back().frame, good, bad, fps,
-                from.c_str());
+                from);
   out += line;
   if (good > 0) {
     std::snprintf(line, sizeof line,
@@ -109,11 +109,11 @@ std::string json_vec3(const Vec3& v) {
 
 }  // namespace
 
-std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, const std::string& fps_source,
+std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source,
                              const std::string& pattern) {
   std::size_t errors = 0;
   std::string out = "{\"sequence\":" + json_string(pattern) + ",\"fps\":" + json_number(fps) +
-                    ",\"fps_source\":" + json_string(fps_source) + ",\"frames\":[";
+                    ",\"fps_source\":" + json_string(enum_name(fps_source)) + ",\"frames\":[";
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const FrameInfo& f = frames[i];
     errors += f.error.empty() ? 0 : 1;

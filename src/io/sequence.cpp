@@ -45,7 +45,7 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
   stated_fps_ = read_stated_fps(pattern_.path(frames_.front()));
   if (!options_.fps) {
     options_.fps = stated_fps_.value_or(kDefaultFps);
-    fps_source_ = stated_fps_ ? "header" : "default";
+    fps_source_ = stated_fps_ ? FpsSource::Header : FpsSource::Default;
   }
 }
 

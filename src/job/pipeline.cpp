@@ -8,7 +8,6 @@
 #include <memory>
 #include <numeric>
 #include <optional>
-#include <string_view>
 #include <utility>
 
 #include <oneapi/tbb/parallel_pipeline.h>
@@ -267,13 +266,17 @@ class PatchTexturing final : public Texturing {
     StepReport step = tracker_.step(work.mesh, work.frame, dt);
     FrameStats& fs = work.stats;
     for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
+    const double area = tracker_.surface()->area();
     if (first) {
       const TrackingOptions& o = tracker_.settings().method;
       reporter.verbose("radius d " + std::to_string(o.d()) + ", thickness cs " + std::to_string(o.cs()) +
                        ", max projection mpt " + std::to_string(o.mpt()));
-      if (!resumed_) first_area_ = tracker_.surface()->area(), first_frame_ = work.frame;
+      if (!resumed_) {
+        first_area_ = area;
+        first_frame_ = work.frame;
+      }
     }
-    warn_of_growth(work.frame, reporter);
+    warn_of_growth(work.frame, area, reporter);
     if (!work.written) {
       add_counters(followed_, step);
       return;
@@ -294,7 +297,7 @@ class PatchTexturing final : public Texturing {
     fs.extra.emplace_back("patches_removed", step.removed);
     fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
     for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
-    fs.extra.emplace_back("surface_area", tracker_.surface()->area());
+    fs.extra.emplace_back("surface_area", area);
     failed_ += static_cast<std::size_t>(step.failed);
     if (options_.output.debug_views) write_debug_views(work);
     work.surface = tracker_.shared_surface();
@@ -353,11 +356,12 @@ class PatchTexturing final : public Texturing {
   /// The automatic radius comes from the first frame's size. Liquid that
   /// starts small (an inflow, a tap) then gets patches for its first size:
   /// their number grows with the surface. Said once, when the surface has
-  /// grown kGrowthWarning times, with what to do about it.
-  void warn_of_growth(int frame, Reporter& reporter) {
+  /// grown kGrowthWarning times, with what to do about it. `area`: the
+  /// surface's at `frame`.
+  void warn_of_growth(int frame, double area, Reporter& reporter) {
     static constexpr double kGrowthWarning = 10.0;
     if (growth_warned_ || options_.tracking.radius || !(first_area_ > 0.0)) return;
-    const double growth = tracker_.surface()->area() / first_area_;
+    const double growth = area / first_area_;
     if (!(growth >= kGrowthWarning)) return;
     growth_warned_ = true;
     char text[64];
@@ -539,13 +543,13 @@ void report_frame_rate(const Sequence& sequence, Reporter& reporter) {
   const std::string first = sequence.path_of(sequence.frames().front());
   const std::optional<double> stated = sequence.stated_fps();
   const std::string fps = option_detail::format_number(sequence.fps());
-  const std::string_view source = sequence.fps_source();
-  if (source == "given" && stated && std::abs(*stated - sequence.fps()) > 1e-6 * *stated) {
+  const FpsSource source = sequence.fps_source();
+  if (source == FpsSource::Given && stated && std::abs(*stated - sequence.fps()) > 1e-6 * *stated) {
     reporter.warn("--fps " + fps + " given, but " + first + " states " + option_detail::format_number(*stated) +
                   " fps in its header: the frame step is 1/" + fps + " s, as given");
-  } else if (source == "header") {
+  } else if (source == FpsSource::Header) {
     reporter.info(fps + " fps, as " + first + " states in its header");
-  } else if (source == "default") {
+  } else if (source == FpsSource::Default) {
     reporter.info(fps + " fps (the default: " + first + " states no frame rate; --fps sets it)");
   }
 }

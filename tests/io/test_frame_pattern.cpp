@@ -232,19 +232,19 @@ TEST(Sequence, TheFrameRateIsTheOneTheFirstFrameStatesUnlessGiven) {
   const Sequence stated(in);
   EXPECT_EQ(stated.stated_fps(), 30.0);
   EXPECT_EQ(stated.fps(), 30.0);
-  EXPECT_STREQ(stated.fps_source(), "header");
+  EXPECT_EQ(stated.fps_source(), FpsSource::Header);
   in.frames = "1-3x2";
   EXPECT_EQ(Sequence(in).followed().fps(), 30.0);
-  EXPECT_STREQ(Sequence(in).followed().fps_source(), "header");
+  EXPECT_EQ(Sequence(in).followed().fps_source(), FpsSource::Header);
   in.fps = 24.0;  // given: it wins
   EXPECT_EQ(Sequence(in).fps(), 24.0);
   EXPECT_EQ(Sequence(in).stated_fps(), 30.0);
-  EXPECT_STREQ(Sequence(in).fps_source(), "given");
+  EXPECT_EQ(Sequence(in).fps_source(), FpsSource::Given);
   in = InputOptions{};
   in.pattern = dir.file("n.####.ply");
   EXPECT_EQ(Sequence(in).stated_fps(), std::nullopt);
   EXPECT_EQ(Sequence(in).fps(), Sequence::kDefaultFps);
-  EXPECT_STREQ(Sequence(in).fps_source(), "default");
+  EXPECT_EQ(Sequence(in).fps_source(), FpsSource::Default);
 }
 
 TEST(Options, DefaultsAndValidation) {

@@ -31,13 +31,13 @@ FrameInfo inspect_frame(const Sequence& sequence, std::size_t index);
 
 /// A human-readable table plus a summary (frames, ranges, problems); the
 /// frame rate with where it comes from (Sequence::fps_source()).
-std::string format_info(const std::vector<FrameInfo>& frames, double fps, const std::string& fps_source);
+std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source);
 
 /// The same as one JSON document (`fluidtex info --json`): {"sequence",
 /// "fps", "fps_source", "frames": [{frame, path, error (null when read), vertices, faces,
 /// bbox {min, max}, area, mean_edge, speed {min, max, mean}, clean {...}}],
 /// "errors": frames that could not be read}.
-std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, const std::string& fps_source,
+std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source,
                              const std::string& pattern);
 
 }  // namespace fluidtex

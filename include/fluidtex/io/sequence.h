@@ -26,6 +26,16 @@ inline constexpr EnumName<SkippedFrames> kSkippedFramesNames[] = {{SkippedFrames
                                                                   {SkippedFrames::Ignore, "ignore"}};
 constexpr const auto& enum_names(SkippedFrames) { return kSkippedFramesNames; }
 
+/// Where a sequence's frame rate comes from.
+enum class FpsSource {
+  Given,    ///< --fps
+  Header,   ///< the first frame's PLY header states it (read_stated_fps)
+  Default,  ///< neither: Sequence::kDefaultFps
+};
+inline constexpr EnumName<FpsSource> kFpsSourceNames[] = {
+    {FpsSource::Given, "given"}, {FpsSource::Header, "header"}, {FpsSource::Default, "default"}};
+constexpr const auto& enum_names(FpsSource) { return kFpsSourceNames; }
+
 /// How to read the input sequence.
 struct InputOptions {
   std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
@@ -100,8 +110,8 @@ class Sequence {
   double fps() const { return *options_.fps; }
   /// What the first frame's PLY header states in a comment (read_stated_fps()).
   std::optional<double> stated_fps() const { return stated_fps_; }
-  /// Where fps() comes from: "given" (--fps), "header" or "default".
-  const char* fps_source() const { return fps_source_; }
+  /// Where fps() comes from.
+  FpsSource fps_source() const { return fps_source_; }
   static constexpr double kDefaultFps = 24.0;
 
   const std::vector<int>& frames() const { return frames_; }
@@ -134,7 +144,7 @@ class Sequence {
   std::optional<FramePattern> velocity_pattern_;
   std::vector<int> frames_;
   std::optional<double> stated_fps_;
-  const char* fps_source_ = "given";
+  FpsSource fps_source_ = FpsSource::Given;
 };
 
 }  // namespace fluidtex
