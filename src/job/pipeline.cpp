@@ -287,6 +287,8 @@ class PatchTexturing final : public Texturing {
     add_counters(followed_, step);
     followed_.counts = step.counts;
     followed_.patch_vertices = step.patch_vertices;
+    followed_.change.area = step.change.area;
+    followed_.change.patches = step.change.patches;
     step = std::exchange(followed_, {});
     fs.patches = step.counts;
     fs.extra.emplace_back("patches_created", step.created);
@@ -298,6 +300,8 @@ class PatchTexturing final : public Texturing {
     fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
     for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
     fs.extra.emplace_back("surface_area", area);
+    if (step.change.measured())
+      for (auto& kv : step.change.named()) fs.extra.push_back(std::move(kv));
     failed_ += static_cast<std::size_t>(step.failed);
     if (options_.output.debug_views) write_debug_views(work);
     work.surface = tracker_.shared_surface();
@@ -351,6 +355,10 @@ class PatchTexturing final : public Texturing {
     sum.lost += next.lost;
     sum.failed += next.failed;
     sum.retired.insert(sum.retired.end(), next.retired.begin(), next.retired.end());
+    for (int c = 0; c < kChangeClasses; ++c) {
+      sum.change.births[c] += next.change.births[c];
+      sum.change.removals[c] += next.change.removals[c];
+    }
   }
 
   /// The automatic radius comes from the first frame's size. Liquid that

@@ -13,18 +13,12 @@
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
 #include "fluidtex/tracking/relaxation.h"
+#include "fluidtex/util/parallel.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
 
 namespace {
-
-template <class F>
-void parallel_each(std::size_t n, F&& f) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
-  });
-}
 
 PoissonParams poisson_params(const TrackingOptions& o) { return {o.d(), o.cs(), o.plane_angle, o.criterion}; }
 
@@ -124,6 +118,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     }
     refill_bare_faces(*surface, samples, std::move(bare_faces), frame, report);  // 6
   }
+  if (started_) tally_change(*surface, dt, frame, report);
 
   std::sort(report.retired.begin(), report.retired.end(),
             [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
@@ -194,6 +189,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
     Patch& p = patches_[i];
     if (is_lost(advected[i])) {
       ++report.lost;
+      report.removals.push_back(p.center.point.position);
       if (!is_fading_out(p.state)) {
         const RetireCause cause =
             advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
@@ -314,6 +310,7 @@ void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<Surfa
       ++report.failed;
       continue;
     }
+    report.births.push_back(p->center.point.position);
     p->state = started_ ? DiskState::FadingIn : DiskState::Active;
     p->kt = started_ ? 0.0 : 1.0;
     patches_.push_back(std::move(*p));
@@ -379,6 +376,7 @@ void Tracker::fade(StepReport& report) {
     const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion);
     if (r.remove) {
       ++report.removed;
+      report.removals.push_back(p.center.point.position);
       continue;
     }
     p.state = r.state;
@@ -388,6 +386,22 @@ void Tracker::fade(StepReport& report) {
   }
   patches_ = std::move(survivors);
   report.removed += report.lost;
+}
+
+void Tracker::tally_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const {
+  const ScopedStage stage(report.seconds, "change");
+  const TrackingOptions& o = settings_.method;
+  const SurfaceChange change =
+      measure_surface_change(*surface_, surface, dt, std::max(1, frame - frame_), o.d(), o.plane_angle);
+  ChangeTally& tally = report.change;
+  for (std::size_t f = 0; f < change.rate.size(); ++f)
+    tally.area[change_class(change.rate[f])] += surface.face_areas()[f];
+  for (const Patch& p : patches_) ++tally.patches[change_class(change.at(p.center.point))];
+  auto count = [&](const std::vector<Vec3>& points, std::array<int, kChangeClasses>& per_class) {
+    for (const Vec3& x : points) ++per_class[change_class(change.at(surface.closest_point(x)))];
+  };
+  count(report.births, tally.births);
+  count(report.removals, tally.removals);
 }
 
 void Tracker::weigh(StepReport& report) {

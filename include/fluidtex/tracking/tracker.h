@@ -31,6 +31,7 @@
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
 #include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/surface_change.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
@@ -88,6 +89,13 @@ struct StepReport {
   int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
   std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
   std::size_t patch_vertices = 0;
+  /// Where the step made and destroyed surface (surface_change.h), and the
+  /// live patches, births and removals there; empty on the first frame.
+  ChangeTally change;
+  /// The new patches' centres and the removed patches' last centres (those
+  /// lost in advection: where they were on the previous frame), in the
+  /// order they were made and removed.
+  std::vector<Vec3> births, removals;
   StageSeconds seconds;  ///< per stage
 };
 
@@ -168,6 +176,8 @@ class Tracker {
   static constexpr int kRefillRounds = 3;
   void fade(StepReport& report);
   void weigh(StepReport& report);
+  /// The step's ChangeTally, from the previous surface to `surface`.
+  void tally_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const;
 
   TrackerSettings settings_;
   std::vector<Patch> patches_;

@@ -1,0 +1,119 @@
+#include "fluidtex/tracking/surface_change.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fluidtex/geometry/point_index.h"
+#include "fluidtex/util/error.h"
+#include "fluidtex/util/parallel.h"
+
+namespace fluidtex {
+
+namespace {
+
+Vec3 centroid(const FrameMesh& mesh, const Tri& t) {
+  return (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+}
+
+}  // namespace
+
+SurfaceChange measure_surface_change(const SurfaceIndex& previous, const SurfaceIndex& next, double dt, double frames,
+                                     double radius, double plane_angle) {
+  if (!(radius > 0.0) || !(frames > 0.0)) throw InternalError("measure_surface_change: radius and frames must be > 0");
+  const FrameMesh& from = previous.mesh();
+  const FrameMesh& to = next.mesh();
+  const std::size_t nf_from = from.triangles.size(), nf_to = to.triangles.size();
+  SurfaceChange out;
+  out.rate.assign(nf_to, 0.0f);
+  if (nf_to == 0) return out;
+
+  // Where each face of the previous frame lands: its centroid carried by the
+  // mean of its vertex velocities over dt (the tracker's Euler step), then
+  // projected onto the next surface, with the normal there.
+  std::vector<Vec3> landed(nf_from), landed_normal(nf_from);
+  const bool has_velocity = from.velocities.size() == from.positions.size();
+  parallel_each(nf_from, [&](std::size_t f) {
+    const Tri& t = from.triangles[f];
+    Vec3 v = Vec3::Zero();
+    if (has_velocity) v = (from.velocities[t[0]] + from.velocities[t[1]] + from.velocities[t[2]]) / 3.0;
+    const SurfacePoint p = next.closest_point(centroid(from, t) + v * dt);
+    landed[f] = p.valid() ? p.position : centroid(from, t);
+    landed_normal[f] = p.valid() ? next.normal_at(p) : previous.face_normals()[f];
+  });
+  // The next faces with the same smooth normal as the landings (vertex
+  // normals blended at the centroid): face normals of a reconstructed
+  // surface scatter where it bends, and the plane test would then keep
+  // fewer faces than landings there.
+  std::vector<Vec3> centres(nf_to), normals(nf_to);
+  parallel_each(nf_to, [&](std::size_t g) {
+    const SurfacePoint c = next.at(static_cast<int>(g), Vec3::Constant(1.0 / 3.0));
+    centres[g] = c.position;
+    normals[g] = next.normal_at(c);
+  });
+  const PointIndex carried_index(landed), next_index(centres);
+
+  // A ball that received (almost) nothing, or holds (almost) no surface,
+  // reads as kMaxSurfaceChange rather than infinity: the floor is a
+  // thousandth of the ball's area.
+  const double floor = 1e-3 * M_PI * radius * radius;
+  // A smooth weight that falls to 0 at the radius: a hard ball centred on
+  // a face counts the faces of a mesh made on a grid (a solver's) shell by
+  // shell, and the carried ones, shifted off the grid, otherwise: the ratio
+  // then swings by several per cent with the radius alone.
+  const double inv_r2 = 1.0 / (radius * radius);
+  auto kernel = [inv_r2](const Vec3& a, const Vec3& b) {
+    const double t = 1.0 - (a - b).squaredNorm() * inv_r2;
+    return t > 0.0 ? t * t : 0.0;
+  };
+  const std::vector<double>& next_area = next.face_areas();
+  const std::vector<double>& from_area = previous.face_areas();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf_to), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<int> hits;
+    for (std::size_t g = r.begin(); g != r.end(); ++g) {
+      const Vec3& n = normals[g];
+      double here = 0.0, arrived = 0.0;
+      next_index.within(centres[g], radius, hits);
+      std::sort(hits.begin(), hits.end());  // a fixed summation order
+      for (int h : hits) {
+        if (normals[h].dot(n) > plane_angle) here += next_area[h] * kernel(centres[h], centres[g]);
+      }
+      carried_index.within(centres[g], radius, hits);
+      std::sort(hits.begin(), hits.end());
+      for (int h : hits) {
+        if (landed_normal[h].dot(n) > plane_angle) arrived += from_area[h] * kernel(landed[h], centres[g]);
+      }
+      const double change = std::log((here + floor) / (arrived + floor)) / frames;
+      out.rate[g] = static_cast<float>(std::clamp(change, -kMaxSurfaceChange, kMaxSurfaceChange));
+    }
+  });
+  return out;
+}
+
+const char* change_class_name(int c) {
+  static const char* names[kChangeClasses] = {"sink_fast", "sink", "kept", "source", "source_fast"};
+  if (c < 0 || c >= kChangeClasses) throw InternalError("change_class_name: no class " + std::to_string(c));
+  return names[c];
+}
+
+int change_class(double rate) {
+  int c = 0;
+  while (c < kChangeClasses - 1 && !(rate < kChangeClassEdges[c])) ++c;
+  return c;
+}
+
+std::vector<std::pair<std::string, double>> ChangeTally::named() const {
+  std::vector<std::pair<std::string, double>> out;
+  auto add = [&](const char* what, auto const& values) {
+    for (int c = 0; c < kChangeClasses; ++c)
+      out.emplace_back(std::string("change_") + what + "_" + change_class_name(c), static_cast<double>(values[c]));
+  };
+  add("area", area);
+  add("patches", patches);
+  add("births", births);
+  add("removals", removals);
+  return out;
+}
+
+}  // namespace fluidtex
