@@ -38,8 +38,9 @@ SurfaceChange measure_surface_change(const SurfaceIndex& previous, const Surface
     const Tri& t = from.triangles[f];
     Vec3 v = Vec3::Zero();
     if (has_velocity) v = (from.velocities[t[0]] + from.velocities[t[1]] + from.velocities[t[2]]) / 3.0;
-    const SurfacePoint p = next.closest_point(centroid(from, t) + v * dt);
-    landed[f] = p.valid() ? p.position : centroid(from, t);
+    const Vec3 c = centroid(from, t);
+    const SurfacePoint p = next.closest_point(c + v * dt);
+    landed[f] = p.valid() ? p.position : c;
     landed_normal[f] = p.valid() ? next.normal_at(p) : previous.face_normals()[f];
   });
   // The next faces with the same smooth normal as the landings (vertex
@@ -74,13 +75,12 @@ SurfaceChange measure_surface_change(const SurfaceIndex& previous, const Surface
     for (std::size_t g = r.begin(); g != r.end(); ++g) {
       const Vec3& n = normals[g];
       double here = 0.0, arrived = 0.0;
+      // The trees' order is the same on every run: a fixed summation order.
       next_index.within(centres[g], radius, hits);
-      std::sort(hits.begin(), hits.end());  // a fixed summation order
       for (int h : hits) {
         if (normals[h].dot(n) > plane_angle) here += next_area[h] * kernel(centres[h], centres[g]);
       }
       carried_index.within(centres[g], radius, hits);
-      std::sort(hits.begin(), hits.end());
       for (int h : hits) {
         if (landed_normal[h].dot(n) > plane_angle) arrived += from_area[h] * kernel(landed[h], centres[g]);
       }

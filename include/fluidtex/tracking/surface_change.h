@@ -37,7 +37,6 @@ namespace fluidtex {
 /// (1 between consecutive frames). Clamped to ±kMaxSurfaceChange.
 struct SurfaceChange {
   std::vector<float> rate;
-  bool empty() const { return rate.empty(); }
   /// The change at a point of the next surface (its face's); 0 for an invalid point.
   double at(const SurfacePoint& p) const { return p.valid() ? rate[p.face] : 0.0; }
 };
@@ -53,7 +52,7 @@ inline constexpr double kMaxSurfaceChange = 3.0;
 SurfaceChange measure_surface_change(const SurfaceIndex& previous, const SurfaceIndex& next, double dt, double frames,
                                      double radius, double plane_angle);
 
-/// The classes `stats.jsonl` and `fluidtex eval` count by: where the surface
+/// The classes `stats.jsonl` counts by: where the surface
 /// shrinks fast, shrinks, is kept, grows, grows fast. The edges are area
 /// changes per frame (ln ratio): ±1 % is within the velocity noise of real
 /// caches, ±5 % a frame halves or doubles the area in 14 frames, less than
@@ -65,8 +64,8 @@ const char* change_class_name(int c);
 /// The class of a change per frame.
 int change_class(double rate);
 
-/// Per class: the next surface's area, the live patches whose centre lies
-/// there, and the births and removals of the step there.
+/// Per class: the next surface's area, the patches (in any state) whose
+/// centre lies there, and the births and removals of the step there.
 struct ChangeTally {
   std::array<double, kChangeClasses> area{};
   std::array<int, kChangeClasses> patches{}, births{}, removals{};

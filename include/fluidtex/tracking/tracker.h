@@ -90,7 +90,7 @@ struct StepReport {
   std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
   std::size_t patch_vertices = 0;
   /// Where the step made and destroyed surface (surface_change.h), and the
-  /// live patches, births and removals there; empty on the first frame.
+  /// patches, births and removals there; not measured on the first frame.
   ChangeTally change;
   /// The new patches' centres and the removed patches' last centres (those
   /// lost in advection: where they were on the previous frame), in the
