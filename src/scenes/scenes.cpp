@@ -1,4 +1,4 @@
-// Flat example scenes (rotation, split, merge), scene dispatch and the PLY
+// Flat example scenes (rotation, split, merge, stream, stream-rock), scene dispatch and the PLY
 // writer. The 3D `drop` scene lives in scene_drop.cpp (OpenVDB).
 //
 // All flat scenes lie in the z = 0 plane with counter-clockwise triangles
@@ -337,12 +337,69 @@ FrameMesh make_merge(int frame, const SceneOptions& options) {
   return mesh;
 }
 
-const char* const kSceneNames[] = {"rotation", "split", "merge", "drop"};
+// ---------------------------------------------------------------------------
+// stream and stream-rock: liquid that enters a fixed window at one edge and
+// leaves it at the other, every frame (an inflow and an outflow). The sheet
+// is the same every frame; the liquid moves through it in +x at about
+// kStreamSpeed units/s, so surface is made at the inflow edge x = -L and
+// destroyed at the outflow edge x = +L, and nowhere else (both flows are
+// divergence free, so every other part of the sheet keeps its area).
+//  - stream: the channel [-L, L] x [-W, W], a uniform flow u = U, v = 0:
+//    the liquid moves rigidly, so a patch only ever meets the two edges.
+//  - stream-rock: potential flow past a cylinder of radius a at the origin
+//    (a rock standing out of the water), psi = U y (1 - a^2 / r^2); the
+//    walls are the streamlines |psi| = U W, so they bulge around the rock,
+//    and the flow stagnates at its upstream and downstream points.
+// ---------------------------------------------------------------------------
+constexpr double kStreamSpeed = 1.2;       // U, units / s: 0.05 units a frame at 24 fps
+constexpr double kStreamHalfLength = 1.5;  // L
+constexpr double kStreamHalfWidth = 0.5;   // W
+constexpr double kStreamRock = 0.2;        // a
+
+FrameMesh make_stream(const SceneOptions& options) {
+  const double L = kStreamHalfLength, W = kStreamHalfWidth, U = kStreamSpeed;
+  const Vec2 lo(-L, -W), hi(L, W);
+  const double h = 2.0 * L / options.resolution;
+  FrameMesh mesh = mesh_implicit_2d(
+      [&](const Vec2& p) { return std::max(std::abs(p.x()) - L, std::abs(p.y()) - W); }, lo - Vec2::Constant(h),
+      hi + Vec2::Constant(h), h);
+  set_velocities(mesh, [&](const Vec2&) { return Vec2(U, 0.0); });
+  return mesh;
+}
+
+struct RockFlow {
+  double U = kStreamSpeed, a = kStreamRock, W = kStreamHalfWidth, L = kStreamHalfLength;
+
+  Vec2 velocity(const Vec2& p) const {
+    const double r2 = std::max(p.squaredNorm(), 1e-12), r4 = r2 * r2;
+    const double a2 = a * a;
+    return Vec2(U * (1.0 - a2 * (p.x() * p.x() - p.y() * p.y()) / r4), -2.0 * U * a2 * p.x() * p.y() / r4);
+  }
+  double implicit(const Vec2& p) const {
+    const double r2 = std::max(p.squaredNorm(), 1e-12);
+    const double psi = p.y() * (1.0 - a * a / r2);       // divided by U
+    const double grad = std::max(velocity(p).norm() / U, 0.3);  // |grad psi| / U
+    const double wall = (std::abs(psi) - W) / grad;
+    return std::max({wall, a - std::sqrt(r2), std::abs(p.x()) - L});
+  }
+};
+
+FrameMesh make_stream_rock(const SceneOptions& options) {
+  const RockFlow flow;
+  const Vec2 lo(-flow.L, -0.65), hi(flow.L, 0.65);
+  const double h = 2.0 * flow.L / options.resolution;
+  FrameMesh mesh = mesh_implicit_2d([&](const Vec2& p) { return flow.implicit(p); }, lo - Vec2::Constant(h),
+                                    hi + Vec2::Constant(h), h);
+  set_velocities(mesh, [&](const Vec2& p) { return flow.velocity(p); });
+  return mesh;
+}
+
+const char* const kSceneNames[] = {"rotation", "split", "merge", "drop", "stream", "stream-rock"};
 
 void validate(const std::string& scene, const SceneOptions& options) {
   bool known = false;
   for (const char* name : kSceneNames) known = known || scene == name;
-  if (!known) throw InputError("", "unknown scene '" + scene + "' (known: rotation, split, merge, drop)");
+  if (!known) throw InputError("", "unknown scene '" + scene + "' (known: rotation, split, merge, drop, stream, stream-rock)");
   if (options.frames < 1) {
     throw InputError("", "invalid frame count " + std::to_string(options.frames) + " (must be >= 1)");
   }
@@ -383,6 +440,8 @@ FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptio
   if (scene == "rotation") return make_rotation(options);
   if (scene == "split") return make_split(options);
   if (scene == "merge") return make_merge(frame, options);
+  if (scene == "stream") return make_stream(options);
+  if (scene == "stream-rock") return make_stream_rock(options);
   return detail::make_drop_frame(frame, options);
 }
 

@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -140,12 +141,13 @@ SceneOptions opts(int resolution, int frames = 48) {
 // --- Scenes ----------------------------------------------------------------------
 
 TEST(Scenes, NamesAndErrors) {
-  EXPECT_EQ(scene_names(), (std::vector<std::string>{"rotation", "split", "merge", "drop"}));
+  EXPECT_EQ(scene_names(),
+            (std::vector<std::string>{"rotation", "split", "merge", "drop", "stream", "stream-rock"}));
   try {
     make_scene_frame("vortex", 1, opts(8));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "unknown scene 'vortex' (known: rotation, split, merge, drop)");
+    EXPECT_EQ(std::string(e.what()), "unknown scene 'vortex' (known: rotation, split, merge, drop, stream, stream-rock)");
   }
   SceneOptions bad = opts(8);
   bad.frames = 0;
@@ -163,7 +165,7 @@ TEST(Scenes, NamesAndErrors) {
 }
 
 TEST(Scenes, FlatScenesAreValidAndFaceUp) {
-  for (const std::string scene : {"rotation", "split", "merge"}) {
+  for (const std::string scene : {"rotation", "split", "merge", "stream", "stream-rock"}) {
     for (int frame : {1, 13, 24, 48}) {
       const FrameMesh mesh = make_scene_frame(scene, frame, opts(24));
       const std::string what = scene + " frame " + std::to_string(frame);
@@ -186,6 +188,47 @@ TEST(Scenes, RotationIsRigidQuarterTurnIn4s) {
   }
   EXPECT_NEAR(max_radius, 1.0, 1e-12);
   EXPECT_NEAR(surface_area(mesh), M_PI, 0.05 * M_PI);
+}
+
+TEST(Scenes, StreamsEnterAtOneEdgeAndLeaveAtTheOther) {
+  for (const std::string scene : {"stream", "stream-rock"}) {
+    const FrameMesh mesh = make_scene_frame(scene, 1, opts(48));
+    EXPECT_EQ(components(mesh), 1) << scene;
+    // A fixed window: every frame is the same sheet.
+    const FrameMesh later = make_scene_frame(scene, 30, opts(48));
+    EXPECT_EQ(later.positions, mesh.positions) << scene;
+    EXPECT_EQ(later.velocities, mesh.velocities) << scene;
+    double min_x = 1e9, max_x = -1e9;
+    for (const Vec3& p : mesh.positions) min_x = std::min(min_x, p.x()), max_x = std::max(max_x, p.x());
+    EXPECT_NEAR(min_x, -1.5, 0.03) << scene;
+    EXPECT_NEAR(max_x, 1.5, 0.03) << scene;
+    // Liquid crosses both end edges inwards-to-outwards (+x) at about
+    // 1.2 units/s and never crosses the side walls: at the walls the
+    // velocity is along them.
+    for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+      const Vec3& p = mesh.positions[v];
+      const Vec3& u = mesh.velocities[v];
+      if (std::abs(p.x()) > 1.45) {
+        EXPECT_GT(u.x(), 0.7) << scene << " at " << p.transpose();
+        EXPECT_LT(u.x(), 1.3) << scene << " at " << p.transpose();
+        if (scene == "stream") EXPECT_EQ(u.x(), 1.2);
+      }
+      if (scene == "stream") EXPECT_EQ(u.y(), 0.0);
+    }
+  }
+  // The rock: a hole of radius 0.2 at the origin, flow stagnating before it.
+  const FrameMesh rock = make_scene_frame("stream-rock", 1, opts(64));
+  const FrameMesh plain = make_scene_frame("stream", 1, opts(64));
+  // V - E + F: 1 for a disc, 0 for a disc with a hole.
+  auto euler = [](const FrameMesh& m) {
+    std::set<std::pair<int, int>> edges;
+    for (const Tri& t : m.triangles)
+      for (int k = 0; k < 3; ++k) edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+    return static_cast<long>(m.num_vertices()) - static_cast<long>(edges.size()) + static_cast<long>(m.num_faces());
+  };
+  EXPECT_EQ(euler(rock), 0);
+  EXPECT_EQ(euler(plain), 1);
+  EXPECT_NEAR(surface_area(plain), 3.0, 0.05);
 }
 
 TEST(Scenes, SplitHasInflowAndTwoOutflows) {

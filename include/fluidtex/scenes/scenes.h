@@ -20,6 +20,14 @@
 ///    union; contact at mid-sequence. Each frame is sampled into an OpenVDB
 ///    level set (voxel 2.2 / resolution) and meshed with volumeToMesh:
 ///    closed, outward-oriented surface.
+///  - `stream`, `stream-rock`: open boundaries. A fixed window of a channel,
+///    [-1.5, 1.5] x [-0.5, 0.5], through which the liquid moves in +x at
+///    about 1.2 units/s (stream: uniformly, the liquid moving rigidly;
+///    stream-rock: potential flow past a cylinder of radius 0.2 at the
+///    origin between streamline walls): surface is made at the inflow edge
+///    x = -1.5 and destroyed at the outflow edge x = 1.5 every frame, and
+///    kept everywhere else (divergence-free flows). Grid spacing
+///    3 / resolution.
 /// Flat scenes lie in z = 0 with counter-clockwise triangles (normals +z).
 /// Every frame is an independent FrameMesh whose velocities (scene units per
 /// second, analytic at the vertices) carry the surface of frame f to that of
