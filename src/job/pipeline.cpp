@@ -296,6 +296,7 @@ class PatchTexturing final : public Texturing {
     fs.extra.emplace_back("patches_relaxed", step.relaxed);
     fs.extra.emplace_back("patches_recut", step.recut);
     for (auto& kv : recut_counts(step)) fs.extra.push_back(std::move(kv));
+    fs.extra.emplace_back("patches_regrown", step.regrown);
     fs.extra.emplace_back("patches_removed", step.removed);
     fs.extra.emplace_back("patch_vertices", static_cast<double>(step.patch_vertices));
     for (auto& kv : retired_counts(step.retired)) fs.extra.push_back(std::move(kv));
@@ -350,6 +351,7 @@ class PatchTexturing final : public Texturing {
     sum.refilled += next.refilled;
     sum.relaxed += next.relaxed;
     sum.recut += next.recut;
+    sum.regrown += next.regrown;
     for (int c = 0; c < kRetireCauses; ++c) sum.recut_causes[c] += next.recut_causes[c];
     sum.removed += next.removed;
     sum.lost += next.lost;

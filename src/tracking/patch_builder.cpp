@@ -228,6 +228,7 @@ std::optional<Patch> recut_patch(const Patch& old, const SurfaceIndex& surface, 
   fresh->created_frame = old.created_frame;
   fresh->recut_frame = frame;
   fresh->close_frames = old.close_frames;
+  fresh->sunk = old.sunk;
   fresh->density = old.density;
   fresh->motion = old.motion;
   return fresh;

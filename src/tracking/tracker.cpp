@@ -4,11 +4,13 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <optional>
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include "fluidtex/geometry/point_index.h"
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
@@ -21,6 +23,9 @@ namespace fluidtex {
 namespace {
 
 PoissonParams poisson_params(const TrackingOptions& o) { return {o.d(), o.cs(), o.plane_angle, o.criterion}; }
+
+/// A patch fading out because the surface around it is being destroyed.
+bool is_sinking(const Patch& p) { return is_fading_out(p.state) && p.cause == RetireCause::Sunk; }
 
 /// One frame of a recut patch's recovery, at its fading rate.
 void recover(Patch& p, double rate) {
@@ -50,7 +55,8 @@ std::vector<std::pair<std::string, double>> recut_counts(const StepReport& step)
   std::vector<std::pair<std::string, double>> out;
   for (int c = 1; c < kRetireCauses; ++c) {
     const auto cause = static_cast<RetireCause>(c);
-    if (cause == RetireCause::Emptied || cause == RetireCause::TooClose) continue;  // never recut
+    if (cause == RetireCause::Emptied || cause == RetireCause::TooClose || cause == RetireCause::Sunk)
+      continue;  // never recut
     out.emplace_back(std::string("recut_") + to_string(cause), step.recut_causes[c]);
   }
   return out;
@@ -98,9 +104,12 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
       check_disk_budget(*surface, settings_.method);
     }
   }
+  std::optional<SurfaceChange> change;
   if (started_) {
     const std::vector<AdvectResult> advected = advect(*surface, dt, report);  // 1
     retire_distorted(*surface, advected, frame, report);                      // 2
+    change = measure_change(*surface, dt, frame, report);
+    if (settings_.method.sink == Sink::Fade) track_sinking(*change, frame);
   }
   // Coverage is tested at points about a patch edge apart (the resolution
   // of the patch meshes), so that a face covered at its centroid cannot hide
@@ -109,16 +118,23 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   std::vector<int> bare_faces;
   const std::vector<SurfaceSample> fresh = poisson_update(*surface, samples, frame, report, bare_faces);  // 3
   add_patches(*surface, fresh, frame, report);
-  fade(report);   // 4
-  weigh(report);  // 5
+  std::vector<int> vacated = fade(*surface, report);  // 4
+  weigh(report);                                      // 5
   if (settings_.coverage_aware) {
     if (!started_) {
       bare_faces.resize(surface->mesh().triangles.size());
       std::iota(bare_faces.begin(), bare_faces.end(), 0);
     }
+    // The Poisson update counted the sinking patches as cover; those gone
+    // now leave their faces to the safety net.
+    if (!vacated.empty()) {
+      bare_faces.insert(bare_faces.end(), vacated.begin(), vacated.end());
+      std::sort(bare_faces.begin(), bare_faces.end());
+      bare_faces.erase(std::unique(bare_faces.begin(), bare_faces.end()), bare_faces.end());
+    }
     refill_bare_faces(*surface, samples, std::move(bare_faces), frame, report);  // 6
   }
-  if (started_) tally_change(*surface, dt, frame, report);
+  if (change) tally_change(*surface, *change, report);
 
   std::sort(report.retired.begin(), report.retired.end(),
             [](const RetiredPatch& a, const RetiredPatch& b) { return a.id < b.id; });
@@ -229,14 +245,21 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   const std::vector<bool> close =
       flag_too_close(disks, params, o.kill_alpha,
                      settings_.coverage_aware ? std::function<bool(std::size_t, std::size_t)>(covers_centre) : nullptr);
+  // A sunk patch keeps its disk and its cover while it fades: the surface
+  // it stood for is going, and a new disk there would sink in turn.
   std::vector<SurfaceSample> remaining;
+  for (const Patch& p : patches_)
+    if (is_sinking(p)) remaining.push_back(p.center);
   for (std::size_t k = 0; k < live.size(); ++k) {
     Patch& p = patches_[live[k]];
     p.close_frames = close[k] ? p.close_frames + 1 : 0;
-    if (p.close_frames > o.kill_frames) {
+    // Where the surface has lost the fraction α of its area over about the
+    // last kill-frames frames, the pair will not part again: no wait.
+    const bool sinking = o.sink == Sink::Fade && p.sunk < std::log(1.0 - o.kill_alpha);
+    if (p.close_frames > (sinking ? 0 : o.kill_frames)) {
       p.state = DiskState::FadingOutClose;
       p.flagged_frame = frame;
-      p.cause = RetireCause::TooClose;
+      p.cause = sinking ? RetireCause::Sunk : RetireCause::TooClose;
       report.retired.push_back({p.id, p.cause, frame - p.created_frame});
     } else {
       remaining.push_back(disks[k]);
@@ -257,20 +280,29 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     // area is refilled when it starts to fade out (the new disk fades in as
     // it fades out). Counted as bare, it seeded disks beside it that stayed
     // when the pair parted (docs/tracking.md, "Waiting disks count as cover").
-    for (const std::size_t i : live) live_mask[i] = !is_fading_out(patches_[i].state);
+    // A sinking patch counts as cover until it is gone.
+    for (std::size_t i = 0; i < patches_.size(); ++i)
+      live_mask[i] = !is_fading_out(patches_[i].state) || is_sinking(patches_[i]);
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
-    coverage.emplace(patches_, o.mpt(), &live_mask);
-    uncovered = uncovered_samples(candidates, *coverage);
-    // Random candidates miss thin strips (the fillet where a liquid surface
-    // meets a wall, narrower than their spacing): the first bare sample of
-    // every face left bare is a candidate too, after the others, in face
-    // order.
-    const BareFaces bare = fluidtex::bare_faces(surface, samples, *coverage);
-    bare_faces = bare.face;
-    candidates.insert(candidates.end(), bare.point.begin(), bare.point.end());
-    uncovered.resize(candidates.size(), 1);
+    const std::size_t random_candidates = candidates.size();
+    auto find_gaps = [&] {
+      coverage.emplace(patches_, o.mpt(), &live_mask);
+      candidates.resize(random_candidates);
+      uncovered = uncovered_samples(candidates, *coverage);
+      // Random candidates miss thin strips (the fillet where a liquid surface
+      // meets a wall, narrower than their spacing): the first bare sample of
+      // every face left bare is a candidate too, after the others, in face
+      // order.
+      const BareFaces bare = fluidtex::bare_faces(surface, samples, *coverage);
+      bare_faces = bare.face;
+      candidates.insert(candidates.end(), bare.point.begin(), bare.point.end());
+      uncovered.resize(candidates.size(), 1);
+    };
+    find_gaps();
+    if (o.gap_fill == GapFill::Recut && regrow_over_gaps(surface, candidates, uncovered, live_mask, frame, report))
+      find_gaps();
     // The birth margin measured on the patches too: a live patch stretched
     // by the liquid still shows its own disk where its centre has moved more
     // than (1 + γ)·d away in space. A gap the liquid opens inside a patch
@@ -286,6 +318,54 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   }
   return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
                    uncovered.empty() ? nullptr : &uncovered, o.birth_margin, reached);
+}
+
+bool Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
+                               const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
+                               StepReport& report) {
+  const TrackingOptions& o = settings_.method;
+  const PoissonParams params = poisson_params(o);
+  std::vector<std::size_t> owner;  // patch index per centre in `centres`
+  std::vector<Vec3> centres;
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    if (live_mask[i] && !is_fading_out(patches_[i].state))
+      owner.push_back(i), centres.push_back(patches_[i].center.point.position);
+  }
+  const PointIndex index(centres);
+  // Each bare candidate goes to the nearest live disk whose Poisson
+  // criterion at radius d rejects it: the disk that stands for that surface.
+  std::vector<std::size_t> regrow;
+  std::vector<int> near;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (!uncovered[k]) continue;
+    const SurfaceSample& c = candidates[k];
+    index.within(c.point.position, std::max(o.d(), o.cs()), near);
+    std::sort(near.begin(), near.end());
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t chosen = patches_.size();
+    for (int j : near) {
+      const SurfaceSample& disk = patches_[owner[j]].center;
+      const double dist = (disk.point.position - c.point.position).squaredNorm();
+      if (dist < best && rejects(disk.point.position, disk.normal, c.point.position, c.normal, o.d(), params))
+        best = dist, chosen = owner[j];
+    }
+    if (chosen < patches_.size()) regrow.push_back(chosen);
+  }
+  std::sort(regrow.begin(), regrow.end());
+  regrow.erase(std::unique(regrow.begin(), regrow.end()), regrow.end());
+  std::vector<char> done(regrow.size(), 0);
+  parallel_each(regrow.size(), [&](std::size_t r) {
+    Patch& p = patches_[regrow[r]];
+    std::optional<Patch> recut = recut_patch(p, surface, o, settings_.seed, frame, settings_.patch_edge * o.d());
+    if (!recut) return;
+    update_distortion(*recut, surface, o);
+    update_weights(*recut, o);
+    p = std::move(*recut);
+    done[r] = 1;
+  });
+  const int count = static_cast<int>(std::count(done.begin(), done.end(), 1));
+  report.regrown += count;
+  return count > 0;
 }
 
 void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
@@ -361,7 +441,7 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
   }
 }
 
-void Tracker::fade(StepReport& report) {
+std::vector<int> Tracker::fade(const SurfaceIndex& surface, StepReport& report) {
   const ScopedStage stage(report.seconds, "fading");
   const TrackingOptions& o = settings_.method;
   std::vector<SurfaceSample> all;
@@ -370,6 +450,7 @@ void Tracker::fade(StepReport& report) {
   const std::vector<int> rho = disk_density(all, poisson_params(o));
   std::vector<Patch> survivors;
   survivors.reserve(patches_.size());
+  std::vector<int> vacated;
   for (std::size_t i = 0; i < patches_.size(); ++i) {
     Patch& p = patches_[i];
     p.density = rho[i];
@@ -377,6 +458,14 @@ void Tracker::fade(StepReport& report) {
     if (r.remove) {
       ++report.removed;
       report.removals.push_back(p.center.point.position);
+      // Every face its triangles may reach, not only those under its
+      // vertices: a patch edge spans several faces of a fine surface.
+      if (is_sinking(p)) {
+        const BBox box = bounding_box(p.positions);
+        const Vec3 pad = Vec3::Constant(o.mpt());
+        const std::vector<int> reach = surface.faces_in_box(box.min - pad, box.max + pad);
+        vacated.insert(vacated.end(), reach.begin(), reach.end());
+      }
       continue;
     }
     p.state = r.state;
@@ -386,13 +475,31 @@ void Tracker::fade(StepReport& report) {
   }
   patches_ = std::move(survivors);
   report.removed += report.lost;
+  return vacated;
 }
 
-void Tracker::tally_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const {
+void Tracker::track_sinking(const SurfaceChange& change, int frame) {
+  const TrackingOptions& o = settings_.method;
+  // A sum of the rates with weights decaying by 1 − 1/kill-frames a frame
+  // (about the last kill-frames frames): a step of n frames decays it n
+  // times and adds its rate, per frame, n times.
+  const double keep = 1.0 - 1.0 / std::max(1, o.kill_frames);
+  const int steps = std::max(1, frame - frame_);
+  const double decay = std::pow(keep, steps);
+  const double gain = keep < 1.0 ? (1.0 - decay) / (1.0 - keep) : 1.0;
+  for (Patch& p : patches_) {
+    if (!is_fading_out(p.state)) p.sunk = decay * p.sunk + gain * change.at(p.center.point);
+  }
+}
+
+SurfaceChange Tracker::measure_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const {
   const ScopedStage stage(report.seconds, "change");
   const TrackingOptions& o = settings_.method;
-  const SurfaceChange change =
-      measure_surface_change(*surface_, surface, dt, std::max(1, frame - frame_), o.d(), o.plane_angle);
+  return measure_surface_change(*surface_, surface, dt, std::max(1, frame - frame_), o.d(), o.plane_angle);
+}
+
+void Tracker::tally_change(const SurfaceIndex& surface, const SurfaceChange& change, StepReport& report) const {
+  const ScopedStage stage(report.seconds, "change_tally");
   ChangeTally& tally = report.change;
   for (std::size_t f = 0; f < change.rate.size(); ++f)
     tally.area[change_class(change.rate[f])] += surface.face_areas()[f];

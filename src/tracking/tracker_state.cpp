@@ -2,7 +2,8 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 9; version 8 had no birth-gap setting, version 7 no
+// Layout (version 10; version 9 had no gap-fill and sink settings
+// and no per-patch sunk log-area, version 8 had no birth-gap setting, version 7 no
 // projection-slack setting, version 6 no
 // birth-margin setting, version 5 no
 // distorted setting and no per-patch texture offset, recovery or last recut
@@ -21,6 +22,7 @@
 #include <blosc.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -37,7 +39,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 9;
+constexpr std::uint32_t kVersion = 10;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};
@@ -294,6 +296,7 @@ Tracker::UnpackedState Tracker::unpacked_state() const {
     w.put(static_cast<std::int32_t>(p.created_frame)), w.put(static_cast<std::int32_t>(p.flagged_frame));
     w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
     w.put(static_cast<std::int32_t>(p.close_frames)), w.put(static_cast<std::int32_t>(p.recut_frame));
+    w.put(p.sunk);
     w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor), w.put(p.texture_offset);
     w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
@@ -328,6 +331,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     std::int32_t created, flagged, density, close_frames, recut;
     r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
     r.get(close_frames), r.get(recut);
+    r.get(p.sunk);
     const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
     p.recut_frame = recut;
@@ -341,7 +345,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
     bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
               (p.recovery.empty() || p.recovery.size() == nv) &&
-              p.rest.size() == p.triangles.size() && close_frames >= 0 && known;
+              p.rest.size() == p.triangles.size() && close_frames >= 0 && std::isfinite(p.sunk) && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }

@@ -458,6 +458,9 @@ TEST(Tracker, ConstantVelocityTranslatesPatchesExactly) {
   };
   TrackerSettings s = small_settings();
   s.method.radius = 0.3;
+  // The window is fixed: the strip the liquid bares at its upstream edge
+  // would be covered by recutting the patches next to it.
+  s.method.gap_fill = GapFill::Seed;
   Tracker t(s);
   t.step(plane(), 1, 0.1);
   const Patch before = t.patches().front();

@@ -73,6 +73,38 @@ enum class BirthGap {
   Centres,  ///< from the disk centres in space only (the paper's dart throwing)
 };
 
+/// What becomes of a pair of patches within the kill distance where the
+/// liquid destroys the surface around them.
+enum class Sink {
+  /// The one the kill distance flags (the younger, Sec. 5.4) fades out at
+  /// once (cause "sunk"), without the kill-frames wait, when the surface
+  /// around its centre has lost the fraction α of its area (the kill
+  /// distance's α) over about the last kill-frames frames: the change
+  /// measured each frame at radius d (surface_change.h), summed with
+  /// weights decaying by 1 − 1/kill-frames a frame. The wait exists for
+  /// pairs that part again (surface squeezed by a passing wave and stretched
+  /// after it); where the surface they stand on is being destroyed (an
+  /// outflow, a jet plunging into a pool, sheets merging) they do not, and
+  /// each frame of waiting stacks another pair there. While it fades, a
+  /// sunk patch still counts as cover and as a disk, so no new disk is
+  /// seeded on the surface that is going; the faces it leaves bare are
+  /// refilled when it is gone.
+  Fade,
+  Keep,  ///< the kill-frames wait everywhere (the paper)
+};
+
+/// What covers surface left bare close to a live disk (coverage check on).
+enum class GapFill {
+  /// The disk's own patch, cut again around its centre from the current
+  /// surface (recut_patch: its texture kept in place, the new part fading
+  /// in): surface left bare within d of a live disk's centre, as where
+  /// liquid enters next to a patch (an inflow, a jet leaving its nozzle),
+  /// is the surface that disk stands for. A new disk there would sit within
+  /// the kill distance of it and, carried along with it, stay.
+  Recut,
+  Seed,  ///< a new disk on the bare surface, however close to a live one
+};
+
 inline constexpr EnumName<Criterion> kCriterionNames[] = {
     {Criterion::Ellipsoid, "ellipsoid"}, {Criterion::Sphere, "sphere"}, {Criterion::Plane, "plane"}};
 constexpr const auto& enum_names(Criterion) { return kCriterionNames; }
@@ -91,6 +123,12 @@ inline const char* to_string(Distorted d) { return enum_name(d); }
 inline constexpr EnumName<BirthGap> kBirthGapNames[] = {{BirthGap::Patches, "patches"}, {BirthGap::Centres, "centres"}};
 constexpr const auto& enum_names(BirthGap) { return kBirthGapNames; }
 inline const char* to_string(BirthGap g) { return enum_name(g); }
+inline constexpr EnumName<GapFill> kGapFillNames[] = {{GapFill::Recut, "recut"}, {GapFill::Seed, "seed"}};
+constexpr const auto& enum_names(GapFill) { return kGapFillNames; }
+inline const char* to_string(GapFill g) { return enum_name(g); }
+inline constexpr EnumName<Sink> kSinkNames[] = {{Sink::Fade, "fade"}, {Sink::Keep, "keep"}};
+constexpr const auto& enum_names(Sink) { return kSinkNames; }
+inline const char* to_string(Sink k) { return enum_name(k); }
 
 /// Tracking parameters (Tables 3 and 4). Lengths in scene units; the three
 /// lengths left unset are derived from the first frame (resolved()).
@@ -107,7 +145,7 @@ struct TrackingOptions {
   double min_vertex_quality = 0.5;       ///< Q_vmin: a vertex below this distorts its patch (Table 4)
   double selection_margin = 0.6;         ///< β: patch triangles are taken within (1 + β)·d of the centre
   int relax_frames =
-      8;  ///< plastic patches: stretch beyond the yield relaxes over this many frames (0: off, the paper)
+      8;                ///< plastic patches: stretch beyond the yield relaxes over this many frames (0: off, the paper)
   int kill_frames = 8;  ///< a disk too close to an older one fades out after this many frames in a row (0: at once)
   double birth_margin = 0.15;  ///< γ: new disks keep (1 + γ)·d from the others after the first frame (0: the paper)
   double projection_slack =
@@ -117,6 +155,8 @@ struct TrackingOptions {
   DistortionTest distortion_test = DistortionTest::Patch;
   Distorted distorted = Distorted::Recut;
   BirthGap birth_gap = BirthGap::Patches;
+  GapFill gap_fill = GapFill::Recut;
+  Sink sink = Sink::Fade;
 
   /// Every field as f(OptionInfo, field), in the order of --help, the config
   /// file and the state file's settings block (util/options.h).
@@ -237,6 +277,17 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "a gap the liquid opens inside a stretched patch seeds nothing until the patch yields or is "
                        "recut) or centres (in space only, the paper)"},
     o.birth_gap);
+  f(OptionInfo{.name = "gap-fill",
+               .help = "what covers surface left bare within radius of a live disk's centre (where liquid enters "
+                       "next to a patch): recut (that disk's patch, cut again from the current surface with its "
+                       "texture kept in place) or seed (a new disk there)"},
+    o.gap_fill);
+  f(OptionInfo{.name = "sink",
+               .help = "where the liquid destroys surface (an outflow, a jet plunging into a pool): fade (of two disks "
+                       "within the kill distance, the one flagged fades out at once, without the kill-frames wait, "
+                       "when the surface around it has lost the fraction alpha of its area over about the last "
+                       "kill-frames frames) or keep (the kill-frames wait everywhere, the paper)"},
+    o.sink);
 }
 
 }  // namespace fluidtex

@@ -21,6 +21,11 @@ struct Patch {
   double kt = 0.0;  ///< temporal weight K_t ∈ [0, 1]
   int created_frame = 0;
   int close_frames = 0;  ///< frames in a row it has been within the kill distance of an older patch
+  /// The surface change around its centre (ln area ratio per frame,
+  /// surface_change.h) summed over the last frames with weights decaying by
+  /// 1 − 1/kill-frames a frame: about the area lost over the last
+  /// kill-frames frames (Sink::Fade).
+  double sunk = 0.0;
   int flagged_frame = -1;                 ///< frame it started fading out (t_k), −1 if not
   int recut_frame = -1;                   ///< last frame it was cut again in place (recut_patch), −1 if never
   RetireCause cause = RetireCause::None;  ///< why it is fading out (None while it is not)

@@ -83,6 +83,7 @@ struct StepReport {
   int refilled = 0;                   ///< of those, made by the coverage safety net (refill_bare_faces)
   int relaxed = 0;                    ///< live patches whose uv relaxed (stretched beyond the yield; relax-frames)
   int recut = 0;                      ///< patches found too distorted and cut again in place (--distorted recut)
+  int regrown = 0;                    ///< live patches cut again to cover bare surface by their disk (--gap-fill recut)
   std::array<int, kRetireCauses> recut_causes{};  ///< of those, by the rule that would have retired them
   int removed = 0;                    ///< patches removed (faded out or lost)
   int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
@@ -156,6 +157,13 @@ class Tracker {
                         StepReport& report);
   std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
                                             StepReport& report, std::vector<int>& bare_faces);
+  /// GapFill::Recut: every live patch (live_mask) whose disk rejects one of
+  /// the `uncovered` `candidates` at radius d (the nearest such disk, for
+  /// each) is cut again around its centre from `surface` (recut_patch), so
+  /// that it covers the bare surface it stands for. True when any was.
+  bool regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
+                        const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
+                        StepReport& report);
   void add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame, StepReport& report);
   void build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
                      StepReport& report);
@@ -174,10 +182,19 @@ class Tracker {
   void refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<int> faces, int frame,
                          StepReport& report);
   static constexpr int kRefillRounds = 3;
-  void fade(StepReport& report);
+  /// Density and K_t; removes the patches faded out. Returns the faces of
+  /// `surface` within reach of the removed sinking patches (Sink::Fade),
+  /// which the Poisson update counted as covered.
+  std::vector<int> fade(const SurfaceIndex& surface, StepReport& report);
   void weigh(StepReport& report);
-  /// The step's ChangeTally, from the previous surface to `surface`.
-  void tally_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const;
+  /// Where the step from the previous surface to `surface` makes and
+  /// destroys surface (measure_surface_change at radius d).
+  SurfaceChange measure_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const;
+  /// Sink::Fade: adds the step's change at each live patch's centre to its
+  /// decaying sum (Patch::sunk).
+  void track_sinking(const SurfaceChange& change, int frame);
+  /// The step's ChangeTally, at the end of the step.
+  void tally_change(const SurfaceIndex& surface, const SurfaceChange& change, StepReport& report) const;
 
   TrackerSettings settings_;
   std::vector<Patch> patches_;
