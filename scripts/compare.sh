@@ -13,6 +13,7 @@
 # FLUIDTEX=PATH runs another build than build/fluidtex)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/paper_rules.sh
 out=${1:-out/compare}
 frames=${FRAMES:-40}
 bin=${FLUIDTEX:-build/fluidtex}  # FLUIDTEX=PATH: another build
@@ -52,8 +53,7 @@ run split-flowmap split --method flowmap
 run drop-flowmap drop --method flowmap
 run merge-flowmap merge --method flowmap
 for scene in rotation split drop merge; do
-  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
-    --relax-frames 0 --kill-frames 0 --birth-margin 0 --birth-gap centres --projection-slack 0 --distorted fade
+  run "$scene-paper" "$scene" "${PAPER_RULES[@]}"
 done
 
 python3 scripts/compare_tables.py "$out"

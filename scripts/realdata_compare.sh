@@ -7,11 +7,13 @@
 # evaluated with `fluidtex eval`; prints the Markdown table of
 # docs/results.md ("Real simulation caches").
 #   scripts/realdata_compare.sh [OUTDIR]
-#   ATLAS=2048 (atlas size)  SCENES="slosh drop obstacle"  FRAMES_slosh=1-48 ...
+#   ATLAS=2048 (atlas size)  SCENES="slosh drop obstacle river"  FRAMES_slosh=1-48 ...
 #   VARIANTS="patches flowmap" (default: all five)
 #   RUN_OPTIONS="--skipped-frames ignore" (added to every run)
+#   BEFORE=PATH (another build's fluidtex: its defaults as the rows *-before)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/paper_rules.sh
 out=${1:-out/realdata}
 data=${REALDATA:-../shared/realdata}
 atlas=${ATLAS:-2048}
@@ -20,11 +22,12 @@ exemplar=data/gravel.png
 mkdir -p "$out"
 [[ -d $data ]] || { echo "no real data at $data" >&2; exit 2; }
 
-variants=" ${VARIANTS:-patches elastic paper flowmap advect} "
+variants=" ${VARIANTS:-patches elastic paper flowmap advect} before "
 read -r -a run_options <<<"${RUN_OPTIONS:-}"
 run() {  # name scene [run options...]
-  local name=$1 scene=$2
+  local name=$1 scene=$2 bin=$bin
   shift 2
+  [[ $name == *-before ]] && bin=$BEFORE
   [[ $variants == *" ${name#"$scene"-} "* ]] || return 0
   local pattern="$data/blender-$scene/$scene.####.ply"
   local frames_var="FRAMES_$scene" frames=()
@@ -36,12 +39,12 @@ run() {  # name scene [run options...]
   fi
 }
 
-for scene in ${SCENES:-slosh drop obstacle}; do
+for scene in ${SCENES:-slosh drop obstacle river}; do
   [[ -d "$data/blender-$scene" ]] || continue
   run "$scene-patches" "$scene"
+  [[ -n ${BEFORE:-} ]] && run "$scene-before" "$scene"
   run "$scene-elastic" "$scene" --relax-frames 0
-  run "$scene-paper" "$scene" --patch-motion vertex --distortion-test vertex --fading density --weight-cutoff 0 \
-    --relax-frames 0 --kill-frames 0 --birth-margin 0 --birth-gap centres --projection-slack 0 --distorted fade
+  run "$scene-paper" "$scene" "${PAPER_RULES[@]}"
   run "$scene-flowmap" "$scene" --method flowmap
   run "$scene-advect" "$scene" --method flowmap --flowmap-period 100000
 done
