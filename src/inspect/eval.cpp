@@ -28,6 +28,7 @@
 #include "fluidtex/io/stats.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/surface_change.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/check.h"
@@ -540,6 +541,49 @@ struct PatchHistory {
   }
 };
 
+/// Where the patches are against where the liquid makes and destroys
+/// surface (surface_change.h), from consecutive state files: per class of
+/// change, the patches per area over the first frame's patches per area,
+/// and the pair's births and removals there (a removed patch at its last
+/// centre, on the new surface).
+struct ChangeHistory {
+  std::shared_ptr<const SurfaceIndex> surface;
+  std::map<std::uint32_t, Vec3> centres;
+  int frame = 0;
+  double first_density = 0.0;
+
+  void add(int next_frame, const Tracker& tracker, double fps, Row& row) {
+    const std::shared_ptr<const SurfaceIndex> next = tracker.shared_surface();
+    std::map<std::uint32_t, Vec3> now;
+    for (const Patch& p : tracker.patches()) now.emplace(p.id, p.center.point.position);
+    if (first_density == 0.0 && next->area() > 0.0) first_density = static_cast<double>(now.size()) / next->area();
+    if (surface && first_density > 0.0) {
+      const TrackingOptions& o = tracker.settings().method;
+      const int steps = next_frame - frame;
+      const SurfaceChange change = measure_surface_change(*surface, *next, steps / fps, steps, o.d(), o.plane_angle);
+      ChangeTally tally;
+      for (std::size_t f = 0; f < change.rate.size(); ++f)
+        tally.area[change_class(change.rate[f])] += next->face_areas()[f];
+      for (const Patch& p : tracker.patches()) ++tally.patches[change_class(change.at(p.center.point))];
+      auto where = [&](const Vec3& x) { return change_class(change.at(next->closest_point(x))); };
+      for (const auto& [id, x] : now)
+        if (!centres.count(id)) ++tally.births[where(x)];
+      for (const auto& [id, x] : centres)
+        if (!now.count(id)) ++tally.removals[where(x)];
+      for (int c = 0; c < kChangeClasses; ++c) {
+        const std::string name = change_class_name(c);
+        row.emplace_back("density_" + name,
+                         tally.area[c] > 0.0 ? tally.patches[c] / tally.area[c] / first_density : std::nan(""));
+        row.emplace_back("births_" + name, tally.births[c]);
+        row.emplace_back("removals_" + name, tally.removals[c]);
+      }
+    }
+    surface = next;
+    centres = std::move(now);
+    frame = next_frame;
+  }
+};
+
 /// Coverage (surface area and texels with Σw = 0), ghosting (patches blended
 /// per texel, re-synthesised with the count layer) and distortion of the
 /// frame's patches.
@@ -707,6 +751,15 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
        {"retired_centre_lost", "retired_emptied", "retired_vertices_lost", "retired_split", "retired_flipped",
         "retired_quality", "retired_too_close"},
        {"centre lost", "emptied", "vertices lost", "split", "flipped", "quality", "too close"}},
+      {"Patches per area where surface is destroyed, kept and made (over the first frame's)",
+       {"density_sink_fast", "density_sink", "density_kept", "density_source", "density_source_fast"},
+       {"shrinking > 5 %/frame", "shrinking 1-5 %", "kept (±1 %)", "growing 1-5 %", "growing > 5 %/frame"}},
+      {"Births by surface change",
+       {"births_sink_fast", "births_sink", "births_kept", "births_source", "births_source_fast"},
+       {"shrinking > 5 %/frame", "shrinking 1-5 %", "kept (±1 %)", "growing 1-5 %", "growing > 5 %/frame"}},
+      {"Removals by surface change",
+       {"removals_sink_fast", "removals_sink", "removals_kept", "removals_source", "removals_source_fast"},
+       {"shrinking > 5 %/frame", "shrinking 1-5 %", "kept (±1 %)", "growing 1-5 %", "growing > 5 %/frame"}},
       {"Distortion D_T", {"distortion_median", "distortion_p95"}, {"median", "95th pct"}},
       {"Warping error (σ units)", {"warp_advected", "warp_fixed", "warp_random"}, {"advected", "not moving", "random"}},
       {"Optical flow vs projected velocity (px)",
@@ -781,6 +834,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   std::optional<TrackingOptions> resolved;
   std::vector<Row> rows;
   PatchHistory history;
+  ChangeHistory change;
   std::optional<TexturedFrame> previous;
   std::shared_ptr<const FrameMesh> previous_mesh;
   std::vector<std::string> images;
@@ -798,6 +852,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       const Tracker tracker = Tracker::load(state, mesh);
       if (!resolved) resolved = tracker.settings().method;
       history.add(frame, tracker, row);
+      change.add(frame, tracker, read.fps(), row);
       patch_metrics(tracker, job, exemplar, row);
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());

@@ -254,6 +254,11 @@ TEST(Eval, AStepRunIsMeasuredThroughTheFramesItSkipsAndPerFrame) {
     births += number(line, "births");
     EXPECT_NEAR(number(line, "birth_rate"), number(line, "births") / number(line, "patches") / 2, 1e-12);
     EXPECT_LT(number(line, "warp_advected"), number(line, "warp_fixed")) << line;  // moves with the liquid
+    // Where the births are, by the surface change: every birth in one class.
+    double by_class = 0;
+    for (const char* c : {"sink_fast", "sink", "kept", "source", "source_fast"})
+      by_class += number(line, std::string("births_") + c);
+    EXPECT_EQ(by_class, number(line, "births")) << line;
   }
   EXPECT_EQ(pairs, 2);
   EXPECT_GT(births, 0);
