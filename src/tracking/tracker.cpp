@@ -300,9 +300,60 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
       candidates.insert(candidates.end(), bare.point.begin(), bare.point.end());
       uncovered.resize(candidates.size(), 1);
     };
+    // The same as find_gaps() after patches were cut again, computed only
+    // where their coverage can have changed (`changed`): the random
+    // candidates and the faces there are tested again, the rest keep their
+    // first answer.
+    auto refind_gaps = [&](const std::vector<BBox>& changed) {
+      coverage.emplace(patches_, o.mpt(), &live_mask);
+      auto inside = [&](const Vec3& q) {
+        return std::any_of(changed.begin(), changed.end(), [&](const BBox& b) {
+          return (q.array() >= b.min.array()).all() && (q.array() <= b.max.array()).all();
+        });
+      };
+      const std::vector<SurfaceSample> first_points(candidates.begin() + random_candidates, candidates.end());
+      candidates.resize(random_candidates);
+      uncovered.resize(random_candidates);
+      std::vector<std::size_t> again;
+      for (std::size_t k = 0; k < random_candidates; ++k) {
+        if (inside(candidates[k].point.position)) again.push_back(k);
+      }
+      parallel_each(again.size(), [&](std::size_t a) {
+        const SurfaceSample& c = candidates[again[a]];
+        uncovered[again[a]] = !coverage->covers(c.point.position, c.normal);
+      });
+      std::vector<int> faces;
+      for (const BBox& b : changed) {
+        const std::vector<int> in = surface.faces_in_box(b.min, b.max);
+        faces.insert(faces.end(), in.begin(), in.end());
+      }
+      std::sort(faces.begin(), faces.end());
+      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+      const BareFaces retested = fluidtex::bare_faces(surface, samples, *coverage, &faces);
+      // Merge, ascending by face: a face tested again takes its new answer.
+      std::vector<int> merged_face;
+      std::vector<SurfaceSample> merged_point;
+      std::size_t a = 0, b = 0;
+      auto from_first = [&](std::size_t k) { return !std::binary_search(faces.begin(), faces.end(), bare_faces[k]); };
+      while (a < bare_faces.size() || b < retested.face.size()) {
+        if (b == retested.face.size() || (a < bare_faces.size() && bare_faces[a] < retested.face[b])) {
+          if (from_first(a)) merged_face.push_back(bare_faces[a]), merged_point.push_back(first_points[a]);
+          ++a;
+        } else {
+          if (a < bare_faces.size() && bare_faces[a] == retested.face[b]) ++a;
+          merged_face.push_back(retested.face[b]), merged_point.push_back(retested.point[b]);
+          ++b;
+        }
+      }
+      bare_faces = std::move(merged_face);
+      candidates.insert(candidates.end(), merged_point.begin(), merged_point.end());
+      uncovered.resize(candidates.size(), 1);
+    };
     find_gaps();
-    if (o.gap_fill == GapFill::Recut && regrow_over_gaps(surface, candidates, uncovered, live_mask, frame, report))
-      find_gaps();
+    if (o.gap_fill == GapFill::Recut) {
+      const std::vector<BBox> changed = regrow_over_gaps(surface, candidates, uncovered, live_mask, frame, report);
+      if (!changed.empty()) refind_gaps(changed);
+    }
     // The birth margin measured on the patches too: a live patch stretched
     // by the liquid still shows its own disk where its centre has moved more
     // than (1 + γ)·d away in space. A gap the liquid opens inside a patch
@@ -320,7 +371,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
                    uncovered.empty() ? nullptr : &uncovered, o.birth_margin, reached);
 }
 
-bool Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
+std::vector<BBox> Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
                                const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
                                StepReport& report) {
   const TrackingOptions& o = settings_.method;
@@ -353,19 +404,24 @@ bool Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<Su
   }
   std::sort(regrow.begin(), regrow.end());
   regrow.erase(std::unique(regrow.begin(), regrow.end()), regrow.end());
-  std::vector<char> done(regrow.size(), 0);
+  std::vector<std::optional<BBox>> changed(regrow.size());
+  const Vec3 pad = Vec3::Constant(2.0 * o.mpt());
   parallel_each(regrow.size(), [&](std::size_t r) {
     Patch& p = patches_[regrow[r]];
     std::optional<Patch> recut = recut_patch(p, surface, o, settings_.seed, frame, settings_.patch_edge * o.d());
     if (!recut) return;
     update_distortion(*recut, surface, o);
     update_weights(*recut, o);
+    const BBox before = bounding_box(p.positions), after = bounding_box(recut->positions);
+    changed[r] = BBox{before.min.cwiseMin(after.min) - pad, before.max.cwiseMax(after.max) + pad};
     p = std::move(*recut);
-    done[r] = 1;
   });
-  const int count = static_cast<int>(std::count(done.begin(), done.end(), 1));
-  report.regrown += count;
-  return count > 0;
+  std::vector<BBox> boxes;
+  for (const auto& box : changed) {
+    if (box) boxes.push_back(*box);
+  }
+  report.regrown += static_cast<int>(boxes.size());
+  return boxes;
 }
 
 void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,

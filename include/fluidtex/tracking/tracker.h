@@ -160,8 +160,10 @@ class Tracker {
   /// GapFill::Recut: every live patch (live_mask) whose disk rejects one of
   /// the `uncovered` `candidates` at radius d (the nearest such disk, for
   /// each) is cut again around its centre from `surface` (recut_patch), so
-  /// that it covers the bare surface it stands for. True when any was.
-  bool regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
+  /// that it covers the bare surface it stands for. Returns, per patch cut
+  /// again, the box its coverage can have changed in: the bounding box of
+  /// its old and new vertices, grown by twice the projection tolerance.
+  std::vector<BBox> regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
                         const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
                         StepReport& report);
   void add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame, StepReport& report);
