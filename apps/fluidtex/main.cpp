@@ -10,9 +10,11 @@
 
 #include "cli.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/memory.h"
 #include "fluidtex/util/version.h"
 
 int main(int argc, char** argv) {
+  fluidtex::keep_freed_memory_for_reuse();
   std::setlocale(LC_ALL, "C");
   std::locale::global(std::locale::classic());
   CLI::App app{
