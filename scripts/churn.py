@@ -14,7 +14,7 @@ from pathlib import Path
 
 from summarize_stats import load  # stats.jsonl of a run, one dict per frame
 
-CAUSES = ["centre_lost", "emptied", "vertices_lost", "split", "flipped", "quality", "too_close", "sunk"]
+CAUSES = ["centre_lost", "emptied", "vertices_lost", "split", "flipped", "quality", "too_close", "sunk", "outflow"]
 AGES = ["0_1", "2_3", "4_7", "8_15", "16_31", "32_up"]
 
 

@@ -140,16 +140,24 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
       carried_rim_point(patch.center.point, centre, centre_target, previous, next, max_projection);
   const bool centre_on_rim = centre_rim.valid();
   if (centre_on_rim) centre = centre_rim;
-  // A centre that misses the surface is mostly a near miss (an overshoot of
-  // a fast sheet, noisy velocities) where the patch still lies on the
-  // liquid: with recut, the patch's vertices decide (below). One that left
-  // through an open rim (an outflow) has left the liquid.
-  const bool centre_missed =
-      centre.distance > projection_tolerance(patch.center.point, patch.center.normal, centre_target, options);
-  if (centre_missed &&
-      (options.distorted != Distorted::Recut || (!centre_on_rim && left_through_rim(centre, next, max_projection))))
-    return AdvectResult::CentreLost;
-  patch.motion = (centre.position - patch.center.point.position).norm() / radius;
+  // A centre that left through an open rim (an outflow) has left the
+  // liquid, however little it moved past the rim in a frame: it stays on the
+  // rim while the patch fades out (LeftThroughRim). Taken back onto the rim
+  // as a near miss, it stayed there for good while the liquid it stood for
+  // flowed on, and disks piled up along the outflow wherever the liquid
+  // moves less than mpt a frame. A centre that misses the surface elsewhere
+  // is mostly a near miss (an overshoot of a fast sheet, noisy velocities)
+  // where the patch still lies on the liquid: with recut, the patch's
+  // vertices decide (below).
+  const bool centre_left = !centre_on_rim && left_through_rim(centre, next, max_projection);
+  const bool centre_missed = !centre_left && centre.distance > projection_tolerance(patch.center.point,
+                                                                                    patch.center.normal,
+                                                                                    centre_target, options);
+  if (centre_missed && options.distorted != Distorted::Recut) return AdvectResult::CentreLost;
+  // The motion (in d a frame) sets a fade's pace under --fading flow: for a
+  // centre that left through an outflow, the liquid's own motion, so that
+  // the patch fades in about the frames its disk takes to flow out.
+  patch.motion = ((centre_left ? centre_target : centre.position) - patch.center.point.position).norm() / radius;
   patch.center.point = centre;
   patch.center.normal = next.normal_at(centre);
 
@@ -189,6 +197,7 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   else
     update_border(patch, next);
   if (patch.triangles.empty()) return AdvectResult::Emptied;
+  if (centre_left) return AdvectResult::LeftThroughRim;
   if (centre_missed) return AdvectResult::CentreMoved;
   return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
 }

@@ -25,7 +25,13 @@ namespace {
 PoissonParams poisson_params(const TrackingOptions& o) { return {o.d(), o.cs(), o.plane_angle, o.criterion}; }
 
 /// A patch fading out because the surface around it is being destroyed.
-bool is_sinking(const Patch& p) { return is_fading_out(p.state) && p.cause == RetireCause::Sunk; }
+/// A patch fading out because its surface is going (sunk, or carried out
+/// through an outflow): it still counts as cover and as a disk until it is
+/// gone, since a new disk there would go the same way, and its faces are
+/// refilled when it is removed.
+bool is_sinking(const Patch& p) {
+  return is_fading_out(p.state) && (p.cause == RetireCause::Sunk || p.cause == RetireCause::Outflow);
+}
 
 /// One frame of a recut patch's recovery, at its fading rate.
 void recover(Patch& p, double rate) {
@@ -55,7 +61,8 @@ std::vector<std::pair<std::string, double>> recut_counts(const StepReport& step)
   std::vector<std::pair<std::string, double>> out;
   for (int c = 1; c < kRetireCauses; ++c) {
     const auto cause = static_cast<RetireCause>(c);
-    if (cause == RetireCause::Emptied || cause == RetireCause::TooClose || cause == RetireCause::Sunk)
+    if (cause == RetireCause::Emptied || cause == RetireCause::TooClose || cause == RetireCause::Sunk ||
+        cause == RetireCause::Outflow)
       continue;  // never recut
     out.emplace_back(std::string("recut_") + to_string(cause), step.recut_causes[c]);
   }
@@ -184,6 +191,11 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
     // it, or fades out (as lost) where no patch can be cut there.
     const bool moved = advected[i] == AdvectResult::CentreMoved;
     if (moved && distorted[i] == RetireCause::None) distorted[i] = RetireCause::CentreLost;
+    // A patch whose centre left through an outflow fades out on the rim.
+    if (advected[i] == AdvectResult::LeftThroughRim) {
+      distorted[i] = RetireCause::Outflow;
+      return;
+    }
     if (distorted[i] != RetireCause::None && o.distorted == Distorted::Recut && !is_fading_out(patches_[i].state)) {
       std::optional<Patch> recut =
           recut_patch(patches_[i], surface, o, settings_.seed, frame, settings_.patch_edge * o.d());

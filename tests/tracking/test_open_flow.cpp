@@ -71,9 +71,10 @@ TEST(OpenFlow, ARigidStreamGetsItsPatchesAtTheInflowAndLosesThemAtTheOutflow) {
   const StreamRun run = track_stream("stream", frames);
   const int settle = 2 * TrackingOptions{}.fade_frames;
   // Where the liquid moves rigidly, disks are born only where it enters and
-  // leave only where it leaves. The last patch at the outflow fades as its
-  // surface goes; what it covered until then, the next one's cut does not
-  // always reach, and a disk is born there now and then (and sinks at once).
+  // leave only where it leaves. A patch whose centre leaves through the
+  // outflow fades out on the rim; what it covered until then, the next
+  // one's cut does not always reach, and a disk is born there now and then
+  // (and leaves at once).
   const double at_inflow = share_near(run.births, settle, -kEdge, run.d);
   const double at_outflow = share_near(run.births, settle, kEdge, run.d);
   EXPECT_DOUBLE_EQ(at_inflow + at_outflow, 1.0);

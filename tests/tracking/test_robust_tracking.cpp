@@ -807,23 +807,31 @@ TEST(ProjectionSlack, AFastSheetWhoseVelocityOverpredictsItsNormalMotionKeepsIts
             AdvectResult::CentreLost);
 }
 
-TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowIsLost) {
-  // Liquid flowing out through the open edge x = 1: a patch whose centre
-  // has left through it is lost, even while most of its vertices remain.
-  const double shift = 0.09;
-  const FrameMesh flow = test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return Vec3(24 * shift, 0, 0); });
-  const SurfaceIndex previous(flow), next(flow);
+TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowFadesOutOnTheRim) {
+  // Liquid flowing out through the open edge x = 1: a patch whose centre has
+  // left through it stays on the rim to fade out, whether the centre went
+  // past the edge by more than mpt or by less (then, taken back onto the rim
+  // as a near miss, it would stay there for good), and its motion is the
+  // liquid's, which sets the pace of the fade.
   TrackingOptions o = TrackingOptions{}.resolved(1.0);
   o.radius = 0.15;
   o.distorted = Distorted::Recut;
-  ASSERT_GT(shift - 0.05, o.mpt());  // the centre ends beyond the edge by more than mpt
-  SurfaceSample c;
-  c.point = previous.closest_point(Vec3(0.95, 0.5, 0));
-  c.normal = previous.normal_at(c.point);
-  std::optional<Patch> patch = build_patch(previous, c, o, 7, 1, 1, 0.25 * o.d());
-  ASSERT_TRUE(patch);
-  EXPECT_EQ(advect_patch(*patch, previous, next, 1.0 / 24, o, Advection::Heun, PatchMotion::Smooth),
-            AdvectResult::CentreLost);
+  for (const double beyond : {2.0 * o.mpt(), 0.5 * o.mpt()}) {
+    const double shift = 0.05 + beyond;  // the centre starts 0.05 inside the edge
+    const FrameMesh flow =
+        test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return Vec3(24 * shift, 0, 0); });
+    const SurfaceIndex previous(flow), next(flow);
+    SurfaceSample c;
+    c.point = previous.closest_point(Vec3(0.95, 0.5, 0));
+    c.normal = previous.normal_at(c.point);
+    std::optional<Patch> patch = build_patch(previous, c, o, 7, 1, 1, 0.25 * o.d());
+    ASSERT_TRUE(patch);
+    EXPECT_EQ(advect_patch(*patch, previous, next, 1.0 / 24, o, Advection::Euler, PatchMotion::Smooth),
+              AdvectResult::LeftThroughRim)
+        << beyond;
+    EXPECT_NEAR(patch->center.point.position.x(), 1.0, 1e-9) << beyond;
+    EXPECT_NEAR(patch->motion, shift / o.d(), 1e-6) << beyond;
+  }
 }
 
 TEST(Rim, AnOutlineThatMovesWithTheLiquidKeepsItsRimAndAnInflowRimLetsGo) {

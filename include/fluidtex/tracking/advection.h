@@ -87,6 +87,12 @@ enum class AdvectResult {
   /// the surface point nearest its advected position, and the tracker recuts
   /// the patch there (or fades it out) instead of losing it.
   CentreMoved,
+  /// The centre left through an open rim (an outflow: the surface ends
+  /// there and the liquid moves on past it). It is put on the rim, the
+  /// vertices as ever, and the tracker fades the patch out there: its
+  /// liquid is leaving, and until it has, the patch still covers what is
+  /// left of it.
+  LeftThroughRim,
 };
 inline bool is_lost(AdvectResult r) { return r == AdvectResult::CentreLost || r == AdvectResult::Emptied; }
 

@@ -45,14 +45,15 @@ enum class RetireCause : std::uint8_t {
   Quality,       ///< stretched: Q_V < Q_vmin at a vertex inside the disk, or too low over the disk
   TooClose,      ///< within the kill distance of an older disk (fades out as too close)
   Sunk,          ///< the surface around it was destroyed (Sink::Fade; fades out as too close)
+  Outflow,       ///< the centre left through an open rim, an outflow (fades out on the rim)
 };
-constexpr int kRetireCauses = 9;
+constexpr int kRetireCauses = 10;
 inline constexpr EnumName<RetireCause> kRetireCauseNames[] = {
     {RetireCause::None, "none"},       {RetireCause::CentreLost, "centre_lost"},
     {RetireCause::Emptied, "emptied"}, {RetireCause::VerticesLost, "vertices_lost"},
     {RetireCause::Split, "split"},     {RetireCause::Flipped, "flipped"},
     {RetireCause::Quality, "quality"}, {RetireCause::TooClose, "too_close"},
-    {RetireCause::Sunk, "sunk"}};
+    {RetireCause::Sunk, "sunk"},       {RetireCause::Outflow, "outflow"}};
 constexpr const auto& enum_names(RetireCause) { return kRetireCauseNames; }
 inline const char* to_string(RetireCause c) { return enum_name(c); }
 
