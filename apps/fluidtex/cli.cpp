@@ -202,13 +202,14 @@ void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
 
 /// --threads of a command that reads or writes frames (0: all cores).
 void add_threads_option(CLI::App* cmd, int& threads) {
-  cmd->add_option("--threads", threads, "Worker threads (0 = all cores)")
+  cmd->add_option("--threads", threads, "Threads in all, image reading and writing included (0 = all cores)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
 }
 
 std::unique_ptr<tbb::global_control> limit_threads(int threads) {
   if (threads <= 0) return nullptr;
+  limit_image_io_threads(threads);
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                static_cast<std::size_t>(threads));
 }

@@ -361,6 +361,15 @@ void write_texture(const std::string& path, const Image& image, const OIIO::Imag
 
 }  // namespace
 
+void limit_image_io_threads(int threads) {
+  if (threads <= 0) return;
+  OIIO::attribute("threads", threads);
+  // OpenImageIO's exr_threads: the size of OpenEXR's pool, −1 for none (the
+  // calling thread compresses). With one thread, none; otherwise the pool
+  // overlaps compression with the caller, which waits on it.
+  OIIO::attribute("exr_threads", threads == 1 ? -1 : threads);
+}
+
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
   const Format format = format_of(path);
   const OIIO::TypeDesc type = pixel_type(path, format, options.depth);

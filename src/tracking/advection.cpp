@@ -150,9 +150,9 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   // where the patch still lies on the liquid: with recut, the patch's
   // vertices decide (below).
   const bool centre_left = !centre_on_rim && left_through_rim(centre, next, max_projection);
-  const bool centre_missed = !centre_left && centre.distance > projection_tolerance(patch.center.point,
-                                                                                    patch.center.normal,
-                                                                                    centre_target, options);
+  const bool centre_missed =
+      !centre_left &&
+      centre.distance > projection_tolerance(patch.center.point, patch.center.normal, centre_target, options);
   if (centre_missed && options.distorted != Distorted::Recut) return AdvectResult::CentreLost;
   // The motion (in d a frame) sets a fade's pace under --fading flow: for a
   // centre that left through an outflow, the liquid's own motion, so that
@@ -355,7 +355,7 @@ float core_weight(const Patch& patch, std::size_t v, double radius, double uv_sc
   const double radial = std::max(0.0, 1.0 - patch.uvs[v].norm() / radius);  // d_uv = d, p_uv is the origin
   const double ks =
       radial * uv_scale * (patch.border[v] ? 0.0 : 1.0) * std::max(0.0, shown_quality(patch, v));  // Eq. 4
-  return static_cast<float>(ks * patch.kt);                                                         // Eq. 2
+  return static_cast<float>(ks * patch.kt);                                                        // Eq. 2
 }
 
 void update_weights(Patch& patch, const TrackingOptions& options) {

@@ -384,8 +384,8 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
 }
 
 std::vector<BBox> Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
-                               const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
-                               StepReport& report) {
+                                            const std::vector<char>& uncovered, const std::vector<char>& live_mask,
+                                            int frame, StepReport& report) {
   const TrackingOptions& o = settings_.method;
   const PoissonParams params = poisson_params(o);
   std::vector<std::size_t> owner;  // patch index per centre in `centres`

@@ -188,4 +188,10 @@ struct ImageWriteOptions {
 /// fails.
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options = {});
 
+/// The threads OpenImageIO and OpenEXR may use for reading and writing
+/// images, process-wide: `threads` (> 0) in all, as the job's --threads
+/// promises (OpenEXR's compression pool otherwise starts a thread per core
+/// beside the job's own); 0 leaves both at one per core.
+void limit_image_io_threads(int threads);
+
 }  // namespace fluidtex

@@ -214,7 +214,10 @@ void JobOptions::for_each_option(Self& o, F&& f) {
                        "linearised, float files as linear)",
                .alias = "-e"},
     o.exemplar);
-  f(OptionInfo{.name = "threads", .help = "Worker threads (0 = all cores)", .bounds = at_least(0)}, o.threads);
+  f(OptionInfo{.name = "threads",
+               .help = "Threads in all, image reading and writing included (0 = all cores)",
+               .bounds = at_least(0)},
+    o.threads);
   f(OptionInfo{.name = "seed", .help = "Random seed"}, o.seed);
   f(OptionInfo{.name = "method",
                .help = "patches: Gagnon et al. 2019; flowmap: the two-phase advected-UV baseline (same outputs, no "
