@@ -83,6 +83,20 @@ TEST(OpenFlow, ARigidStreamGetsItsPatchesAtTheInflowAndLosesThemAtTheOutflow) {
   expect_steady(run.live, "stream");
 }
 
+TEST(OpenFlow, LargerDisksDoNotPileUpOnTheOutflowRim) {
+  // At 1.5 times the default radius mpt exceeds the liquid's motion a frame
+  // (0.05): a centre carried past the outflow rim lands within mpt of it.
+  // It leaves all the same (it fades out on the rim) instead of staying on
+  // the rim while the liquid flows on, which piled up disks there.
+  const TrackingOptions defaults = TrackingOptions{}.resolved(std::hypot(3.0, 1.0));
+  TrackingOptions method;
+  method.radius = 1.5 * defaults.d();
+  ASSERT_GT(TrackingOptions(method).resolved(std::hypot(3.0, 1.0)).mpt(), 1.2 / 24.0);
+  const StreamRun run = track_stream("stream", 120, method);
+  expect_steady(run.live, "stream at 1.5 d");
+  EXPECT_DOUBLE_EQ(share_near(run.removals, 2 * TrackingOptions{}.fade_frames, kEdge, run.d), 1.0);
+}
+
 TEST(OpenFlow, AStreamAroundARockKeepsASteadyCount) {
   const int frames = 120;
   const StreamRun run = track_stream("stream-rock", frames);
