@@ -638,7 +638,7 @@ void texture_metrics(const TexturedFrame& frame, const TrackingOptions& resolved
   double spectrum = std::nan("");
   for (int n : {64, 32, 16}) {
     // 64 windows a frame and 32 exemplar crops: with 8 of each (until
-    // 2026-12-04, session 25) a frame's figure depended on which 8 places of
+    // 2026-12-04) a frame's figure depended on which 8 places of
     // the surface the chart layout put first in scan order.
     const auto windows = chart_windows(mask, frame.atlas.width, n, 64);
     if (windows.empty() || !(scale > 0.0)) continue;
