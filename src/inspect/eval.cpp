@@ -561,15 +561,14 @@ struct ChangeHistory {
       const TrackingOptions& o = tracker.settings().method;
       const int steps = next_frame - frame;
       const SurfaceChange change = measure_surface_change(*surface, *next, steps / fps, steps, o.d(), o.plane_angle);
-      ChangeTally tally;
-      for (std::size_t f = 0; f < change.rate.size(); ++f)
-        tally.area[change_class(change.rate[f])] += next->face_areas()[f];
-      for (const Patch& p : tracker.patches()) ++tally.patches[change_class(change.at(p.center.point))];
-      auto where = [&](const Vec3& x) { return change_class(change.at(next->closest_point(x))); };
+      std::vector<SurfacePoint> at;
+      for (const Patch& p : tracker.patches()) at.push_back(p.center.point);
+      std::vector<Vec3> births, removals;
       for (const auto& [id, x] : now)
-        if (!centres.count(id)) ++tally.births[where(x)];
+        if (!centres.count(id)) births.push_back(x);
       for (const auto& [id, x] : centres)
-        if (!now.count(id)) ++tally.removals[where(x)];
+        if (!now.count(id)) removals.push_back(x);
+      const ChangeTally tally = tally_change(*next, change, at, births, removals);
       for (int c = 0; c < kChangeClasses; ++c) {
         const std::string name = change_class_name(c);
         row.emplace_back("density_" + name,

@@ -124,6 +124,21 @@ SurfaceChange measure_surface_change(const SurfaceIndex& previous, const Surface
   return out;
 }
 
+ChangeTally tally_change(const SurfaceIndex& surface, const SurfaceChange& change,
+                         const std::vector<SurfacePoint>& centres, const std::vector<Vec3>& births,
+                         const std::vector<Vec3>& removals) {
+  ChangeTally tally;
+  for (std::size_t f = 0; f < change.rate.size(); ++f)
+    tally.area[change_class(change.rate[f])] += surface.face_areas()[f];
+  for (const SurfacePoint& c : centres) ++tally.patches[change_class(change.at(c))];
+  auto count = [&](const std::vector<Vec3>& points, std::array<int, kChangeClasses>& per_class) {
+    for (const Vec3& x : points) ++per_class[change_class(change.at(surface.closest_point(x)))];
+  };
+  count(births, tally.births);
+  count(removals, tally.removals);
+  return tally;
+}
+
 const char* change_class_name(int c) {
   static const char* names[kChangeClasses] = {"sink_fast", "sink", "kept", "source", "source_fast"};
   if (c < 0 || c >= kChangeClasses) throw InternalError("change_class_name: no class " + std::to_string(c));

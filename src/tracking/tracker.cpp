@@ -568,15 +568,10 @@ SurfaceChange Tracker::measure_change(const SurfaceIndex& surface, double dt, in
 
 void Tracker::tally_change(const SurfaceIndex& surface, const SurfaceChange& change, StepReport& report) const {
   const ScopedStage stage(report.seconds, "change_tally");
-  ChangeTally& tally = report.change;
-  for (std::size_t f = 0; f < change.rate.size(); ++f)
-    tally.area[change_class(change.rate[f])] += surface.face_areas()[f];
-  for (const Patch& p : patches_) ++tally.patches[change_class(change.at(p.center.point))];
-  auto count = [&](const std::vector<Vec3>& points, std::array<int, kChangeClasses>& per_class) {
-    for (const Vec3& x : points) ++per_class[change_class(change.at(surface.closest_point(x)))];
-  };
-  count(report.births, tally.births);
-  count(report.removals, tally.removals);
+  std::vector<SurfacePoint> centres;
+  centres.reserve(patches_.size());
+  for (const Patch& p : patches_) centres.push_back(p.center.point);
+  report.change = fluidtex::tally_change(surface, change, centres, report.births, report.removals);
 }
 
 void Tracker::weigh(StepReport& report) {

@@ -80,4 +80,11 @@ struct ChangeTally {
   std::vector<std::pair<std::string, double>> named() const;
 };
 
+/// The tally of `change` (measured onto `surface`): the surface's area, the
+/// patch centres `centres`, and the births and removals (points, taken to
+/// the surface point nearest each), by class.
+ChangeTally tally_change(const SurfaceIndex& surface, const SurfaceChange& change,
+                         const std::vector<SurfacePoint>& centres, const std::vector<Vec3>& births,
+                         const std::vector<Vec3>& removals);
+
 }  // namespace fluidtex
