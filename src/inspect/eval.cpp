@@ -576,6 +576,10 @@ struct ChangeHistory {
         row.emplace_back("births_" + name, tally.births[c]);
         row.emplace_back("removals_" + name, tally.removals[c]);
       }
+      // The surface made per frame over the whole: at a constant patch
+      // count per area, the least births per live patch a frame.
+      row.emplace_back("surface_made", tally.made / next->area() / steps);
+      row.emplace_back("surface_lost", tally.lost / next->area() / steps);
     }
     surface = next;
     centres = std::move(now);

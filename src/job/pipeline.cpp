@@ -361,6 +361,8 @@ class PatchTexturing final : public Texturing {
       sum.change.births[c] += next.change.births[c];
       sum.change.removals[c] += next.change.removals[c];
     }
+    sum.change.made += next.change.made;
+    sum.change.lost += next.change.lost;
   }
 
   /// The automatic radius comes from the first frame's size. Liquid that

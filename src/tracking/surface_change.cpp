@@ -128,8 +128,14 @@ ChangeTally tally_change(const SurfaceIndex& surface, const SurfaceChange& chang
                          const std::vector<SurfacePoint>& centres, const std::vector<Vec3>& births,
                          const std::vector<Vec3>& removals) {
   ChangeTally tally;
-  for (std::size_t f = 0; f < change.rate.size(); ++f)
-    tally.area[change_class(change.rate[f])] += surface.face_areas()[f];
+  for (std::size_t f = 0; f < change.rate.size(); ++f) {
+    const double area = surface.face_areas()[f], rate = change.rate[f];
+    tally.area[change_class(rate)] += area;
+    if (rate > 0.0)
+      tally.made += area * -std::expm1(-rate);
+    else
+      tally.lost += area * std::expm1(-rate);
+  }
   for (const SurfacePoint& c : centres) ++tally.patches[change_class(change.at(c))];
   auto count = [&](const std::vector<Vec3>& points, std::array<int, kChangeClasses>& per_class) {
     for (const Vec3& x : points) ++per_class[change_class(change.at(surface.closest_point(x)))];
@@ -161,6 +167,8 @@ std::vector<std::pair<std::string, double>> ChangeTally::named() const {
   add("patches", patches);
   add("births", births);
   add("removals", removals);
+  out.emplace_back("change_made_area", made);
+  out.emplace_back("change_lost_area", lost);
   return out;
 }
 

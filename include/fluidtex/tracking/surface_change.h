@@ -69,6 +69,13 @@ int change_class(double rate);
 struct ChangeTally {
   std::array<double, kChangeClasses> area{};
   std::array<int, kChangeClasses> patches{}, births{}, removals{};
+  /// The surface made and destroyed over the step: Σ area × (1 − e^−rate)
+  /// over the faces that gained area, Σ area × (e^−rate − 1) over those that
+  /// lost it (the area carried there that is no longer surface). At a
+  /// constant patch count per area, `made` over the whole area is the least
+  /// share of the patches that new disks (or growing patches) must supply
+  /// per step.
+  double made = 0.0, lost = 0.0;
   /// False on a first frame (no previous surface) and on an empty one.
   bool measured() const {
     for (double a : area)
@@ -76,7 +83,8 @@ struct ChangeTally {
     return false;
   }
   /// As stats.jsonl keys: `change_area_<class>`, `change_patches_<class>`,
-  /// `change_births_<class>`, `change_removals_<class>`, in that order.
+  /// `change_births_<class>`, `change_removals_<class>`, in that order, then
+  /// `change_made_area` and `change_lost_area`.
   std::vector<std::pair<std::string, double>> named() const;
 };
 
