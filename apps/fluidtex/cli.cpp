@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <clocale>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <locale>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <thread>
 
@@ -31,6 +34,8 @@
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/memory.h"
+#include "fluidtex/util/version.h"
 
 namespace fluidtex::cli {
 
@@ -556,6 +561,40 @@ void add_subcommands(CLI::App& app, int& exit_code) {
   add_synth(app, exit_code);
   add_info(app, exit_code);
   add_gen(app, exit_code);
+}
+
+int run_command_line(int argc, char** argv) {
+  keep_freed_memory_for_reuse();
+  std::setlocale(LC_ALL, "C");
+  std::locale::global(std::locale::classic());
+  CLI::App app{
+      "fluidtex: temporally coherent texture synthesis on the free surface of fluids\n"
+      "(deformable patches, Gagnon et al. 2019)",
+      "fluidtex"};
+  int exit_code = 0;
+  try {
+    app.require_subcommand(1);
+    app.set_version_flag("--version", version_line());
+    add_subcommands(app, exit_code);
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line, like every other error (CLI11 would add "Run with --help ...").
+    std::fprintf(stderr, "fluidtex: error: %s (see --help)\n", e.what());
+    return 2;
+  } catch (const InputError& e) {
+    print_error(e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    // Input sizes are bounded where they are read, so this is the job's size
+    // against the machine's (or the farm slot's) memory: the user can fix it.
+    print_error("out of memory: lower --atlas-size or --threads, or give the job more memory");
+    return 2;
+  } catch (const std::exception& e) {
+    print_error(e.what(), true);
+    return 1;
+  }
+  return exit_code;
 }
 
 }  // namespace fluidtex::cli

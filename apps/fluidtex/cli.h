@@ -6,6 +6,11 @@
 
 namespace fluidtex::cli {
 
+/// The command line: parses `argv`, runs the subcommand and returns the
+/// exit code (0 success, 2 bad input or out of memory, 1 internal failure),
+/// having printed any error as one line.
+int run_command_line(int argc, char** argv);
+
 /// Adds the subcommands to `app`. Each subcommand's callback stores the exit
 /// code in `exit_code`.
 void add_subcommands(CLI::App& app, int& exit_code);
