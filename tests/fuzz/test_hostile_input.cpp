@@ -52,10 +52,10 @@ constexpr bool kSanitized = false;
 #endif
 
 /// Runs fluidtex with `args` under RLIMIT_AS (bytes), RLIMIT_CPU and a wall
-/// clock limit, in `cwd`: the executable itself with `executable`, else the
-/// command line's entry point in a process forked from the test binary
-/// (cli_server.h: the same code, without loading 270 shared libraries per
-/// run).
+/// clock limit, in `cwd`, in a process forked from the test binary's
+/// command-line server (cli_server.h): the command line's entry point, the
+/// same code without loading 270 shared libraries per run, or with
+/// `executable` the executable itself.
 Outcome run_limited(const std::vector<std::string>& args, const fs::path& cwd, double wall_seconds = 60.0,
                     rlim_t memory = 3ull << 30, bool executable = false) {
   const fs::path out_file = cwd / ".stdout", err_file = cwd / ".stderr";
@@ -63,40 +63,13 @@ Outcome run_limited(const std::vector<std::string>& args, const fs::path& cwd, d
   const unsigned cpu_seconds = kSanitized ? 600u : 120u;
   Outcome r;
   int status = 0;
-  if (executable) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-      if (::chdir(cwd.c_str()) != 0) ::_exit(126);
-      const rlimit mem{memory, memory}, cpu{cpu_seconds, cpu_seconds};
-      if (!kSanitized) ::setrlimit(RLIMIT_AS, &mem);
-      ::setrlimit(RLIMIT_CPU, &cpu);
-      const int o = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int e = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(o, 1), ::dup2(e, 2);
-      std::vector<char*> argv{const_cast<char*>(FLUIDTEX_EXE)};
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(FLUIDTEX_EXE, argv.data());
-      ::_exit(127);
-    }
-    const auto start = std::chrono::steady_clock::now();
-    while (::waitpid(pid, &status, WNOHANG) == 0) {
-      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > wall_seconds) {
-        ::kill(pid, SIGKILL);
-        ::waitpid(pid, &status, 0);
-        r.timed_out = true;
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-  } else {
-    const test::Command command = test::spawn_command_line(
-        args, {cwd, out_file, err_file, kSanitized ? 0 : static_cast<std::uint64_t>(memory), cpu_seconds});
-    if (!test::wait_command_line(command, wall_seconds, status)) {
-      ::kill(command.pid, SIGKILL);
-      test::wait_command_line(command, 1e6, status);
-      r.timed_out = true;
-    }
+  const test::Command command = test::spawn_command_line(
+      args, {cwd, out_file, err_file, executable ? fs::path(FLUIDTEX_EXE) : fs::path(),
+             kSanitized ? 0 : static_cast<std::uint64_t>(memory), cpu_seconds});
+  if (!test::wait_command_line(command, wall_seconds, status)) {
+    ::kill(command.pid, SIGKILL);
+    test::wait_command_line(command, 1e6, status);
+    r.timed_out = true;
   }
   if (!r.timed_out && WIFEXITED(status)) r.code = WEXITSTATUS(status);
   r.out = test::read_file(out_file);

@@ -69,10 +69,11 @@ std::string get(const std::string& in, std::size_t& at) {
 /// In the forked copy: the command, as the executable would run it.
 [[noreturn]] void run_command(const std::string& request) {
   std::size_t at = 0;
+  const std::string executable = get(request, at);
   const std::string cwd = get(request, at), out = get(request, at), err = get(request, at);
   const std::uint64_t memory = std::stoull(get(request, at));
   const unsigned cpu = static_cast<unsigned>(std::stoul(get(request, at)));
-  std::vector<std::string> args{"fluidtex"};
+  std::vector<std::string> args{executable.empty() ? "fluidtex" : executable};
   while (at < request.size()) args.push_back(get(request, at));
   if (::chdir(cwd.c_str()) != 0) std::_Exit(126);
   if (memory > 0) {
@@ -89,6 +90,10 @@ std::string get(const std::string& in, std::size_t& at) {
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  if (!executable.empty()) {
+    ::execv(executable.c_str(), argv.data());
+    std::_Exit(127);
+  }
   // Streams flushed, then _exit without static destructors: some libraries'
   // destructors (log4cplus, through OpenVDB) join threads that the test
   // binary started before the fork and that this process does not have, and
@@ -148,6 +153,7 @@ Command spawn_command_line(const std::vector<std::string>& args, const CommandSe
   if (server_socket < 0) throw std::runtime_error("the command-line server is not running (start_cli_server)");
   if (command_running) throw std::runtime_error("spawn_command_line: the previous command was not waited for");
   std::string request;
+  put(request, setup.executable.string());
   put(request, setup.cwd.string());
   put(request, setup.stdout_file.string());
   put(request, setup.stderr_file.string());

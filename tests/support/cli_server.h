@@ -25,8 +25,12 @@ void start_cli_server();
 
 /// What a command runs under: the folder, the files its stdout and stderr
 /// go to, and RLIMIT_AS (0: none) and RLIMIT_CPU in bytes and seconds.
+/// With `executable` the process runs that file (exec) instead of the entry
+/// point it already has: for limits that the test binary's own address
+/// space would not fit under.
 struct CommandSetup {
   std::filesystem::path cwd, stdout_file, stderr_file;
+  std::filesystem::path executable;
   std::uint64_t memory_limit = 0;
   unsigned cpu_seconds = 120;
 };
