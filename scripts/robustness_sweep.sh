@@ -8,7 +8,7 @@
 # or seed only shows as a row out of line with its neighbours.
 #   scripts/robustness_sweep.sh [OUTDIR]
 #   SEEDS="1 2 3 4"  RADII="0.7 1 1.5"  RULES="default paper"
-#   SCENES="drop slosh obstacle river rotation split merge gen-drop stream stream-rock"
+#   SCENES="drop slosh obstacle river rotation split merge gen-drop pour stream stream-rock"
 #   FRAMES=N (generated scenes' length, 120)  FLUIDTEX=PATH (another build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -48,13 +48,13 @@ PY
 }
 
 runs=()
-for scene in ${SCENES:-drop slosh obstacle river rotation split merge gen-drop stream stream-rock}; do
+for scene in ${SCENES:-drop slosh obstacle river rotation split merge gen-drop pour stream stream-rock}; do
   if [[ -d "$data/blender-$scene" ]]; then
     pattern="$data/blender-$scene/$scene.####.ply"
     first="$data/blender-$scene/$scene.0001.ply"
   else
     name=${scene#gen-}
-    case $name in rotation|split|merge|drop|stream|stream-rock) ;; *) continue ;; esac
+    case $name in rotation|split|merge|drop|pour|stream|stream-rock) ;; *) continue ;; esac
     [[ -f "$out/scenes/$scene/$name.0001.ply" ]] ||
       "$bin" gen "$name" -o "$out/scenes/$scene" --frames "$frames" >/dev/null
     pattern="$out/scenes/$scene/$name.####.ply"

@@ -333,7 +333,7 @@ void add_gen(CLI::App& app, int& exit_code) {
                   "Mesh density: grid cells (2D) or voxels (3D) across the domain")
       ->capture_default_str();
   gen->add_option("--format", args->scene_options.format,
-                  "ply (x y z vx vy vz) or vdb (level set 'surface' and velocity grid 'vel'; drop only)")
+                  "ply (x y z vx vy vz) or vdb (level set 'surface' and velocity grid 'vel'; 3D scenes: drop, pour)")
       ->check(CLI::IsMember({"ply", "vdb"}))
       ->capture_default_str();
   gen->add_flag("--staggered", args->scene_options.staggered, "vdb: write the velocity as a staggered (MAC) grid");

@@ -1,6 +1,8 @@
 // Internal interface between the scene generators (not installed).
 #pragma once
 
+#include <functional>
+
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/scenes/scenes.h"
 
@@ -9,8 +11,33 @@ namespace fluidtex::detail {
 /// The `drop` scene (scene_drop.cpp): frame is 1-based and already validated.
 FrameMesh make_drop_frame(int frame, const SceneOptions& options);
 
-/// The `drop` scene's voxel size (its level set's, and that of --format vdb).
-double drop_voxel_size(const SceneOptions& options);
+/// The `pour` scene (scene_pour.cpp): frame is 1-based and already validated.
+FrameMesh make_pour_frame(int frame, const SceneOptions& options);
+
+/// The voxel size of the 3D scenes' level sets (and of --format vdb).
+double volume_voxel_size(const SceneOptions& options);
+
+/// A signed distance field (negative inside the liquid) in scene units.
+using DistanceField = std::function<double(const Vec3&)>;
+
+/// The surface of `field` inside the box [lo, hi] (padded by five voxels):
+/// sampled into a narrow-band OpenVDB level set of the given voxel size
+/// (half-width 3 voxels, signed flood fill) and meshed with volumeToMesh
+/// (closed, outward-oriented triangles). Velocities are left zero.
+FrameMesh mesh_distance_field(const DistanceField& field, const Vec3& lo, const Vec3& hi, double voxel);
+
+/// Signed distance to the box centre ± half with edges rounded by `round`.
+double rounded_box_distance(const Vec3& p, const Vec3& centre, const Vec3& half, double round);
+
+/// Central-difference gradient of `field` at p.
+Vec3 field_gradient(const DistanceField& field, const Vec3& p);
+
+/// A blended velocity v_b corrected along grad F so that the level set F = 0,
+/// whose values change by dF/dt at p, is carried to first order:
+/// v = v_b - (dF/dt + v_b . grad F) grad F / (|grad F|^2 + 0.1^2).
+inline Vec3 carry_level_set(const Vec3& vb, double df_dt, const Vec3& grad) {
+  return vb - (df_dt + vb.dot(grad)) / (grad.squaredNorm() + 0.01) * grad;
+}
 
 /// Scene time of a 1-based frame: (frame - 1) / fps.
 inline double frame_time(int frame, const SceneOptions& options) {

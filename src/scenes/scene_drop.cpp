@@ -26,10 +26,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/SignedFloodFill.h>
-
-#include "fluidtex/geometry/level_set.h"
 #include "fluidtex/util/error.h"
 #include "scene_detail.h"
 
@@ -74,12 +70,7 @@ struct DropScene {
     }
   }
 
-  double pool_sdf(const Vec3& p) const {
-    const Vec3 q = (p - pool_centre).cwiseAbs() - (pool_half - Vec3::Constant(pool_round));
-    const double outside = q.cwiseMax(0.0).norm();
-    const double inside = std::min(q.maxCoeff(), 0.0);
-    return outside + inside - pool_round;
-  }
+  double pool_sdf(const Vec3& p) const { return rounded_box_distance(p, pool_centre, pool_half, pool_round); }
 
   /// Smooth union; `h` returns the sphere's weight (dF / d sphere_sdf).
   double sdf(const Vec3& p, double z, double* h = nullptr) const {
@@ -100,35 +91,20 @@ struct DropScene {
     const Vec3 r = p - c;
     const Vec3 n_sphere = r.norm() > 1e-12 ? Vec3(r.normalized()) : Vec3::UnitZ();
     const double df_dt = -h * v_drop.dot(n_sphere);
-    const double e = 1e-5;
-    Vec3 grad;
-    for (int k = 0; k < 3; ++k) {
-      Vec3 d = Vec3::Zero();
-      d[k] = e;
-      grad[k] = (sdf(p + d, z) - sdf(p - d, z)) / (2.0 * e);
-    }
-    return vb - (df_dt + vb.dot(grad)) / (grad.squaredNorm() + 0.01) * grad;
+    const Vec3 grad = field_gradient([&](const Vec3& q) { return sdf(q, z); }, p);
+    return carry_level_set(vb, df_dt, grad);
   }
 };
 
 }  // namespace
 
-double drop_voxel_size(const SceneOptions& options) { return 2.2 / options.resolution; }
-
 FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
-  initialize_openvdb();
   const DropScene scene(options);
   const double t = frame_time(frame, options);
   double z = 0.0, vz = 0.0;
   scene.drop_motion(t, z, vz);
 
-  const double voxel = drop_voxel_size(options);
-  const float half_width = static_cast<float>(3.0 * voxel);
-  auto grid = openvdb::FloatGrid::create(half_width);
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
-  grid->setGridClass(openvdb::GRID_LEVEL_SET);
-
-  // Index-space box around the pool and the drop's current position.
+  // The box around the pool and the drop's current position.
   const Vec3 lo(scene.pool_centre.x() - scene.pool_half.x(), scene.pool_centre.y() - scene.pool_half.y(),
                 scene.pool_centre.z() - scene.pool_half.z());
   const Vec3 hi(scene.pool_centre.x() + scene.pool_half.x(), scene.pool_centre.y() + scene.pool_half.y(),
@@ -137,26 +113,8 @@ FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
       lo.cwiseMin(Vec3(scene.drop_xy.x() - scene.radius, scene.drop_xy.y() - scene.radius, z - scene.radius));
   const Vec3 hi_all =
       hi.cwiseMax(Vec3(scene.drop_xy.x() + scene.radius, scene.drop_xy.y() + scene.radius, z + scene.radius));
-  const int pad = 5;
-  openvdb::Coord imin, imax;
-  for (int k = 0; k < 3; ++k) {
-    imin[k] = static_cast<int>(std::floor(lo_all[k] / voxel)) - pad;
-    imax[k] = static_cast<int>(std::ceil(hi_all[k] / voxel)) + pad;
-  }
-  {
-    auto acc = grid->getAccessor();
-    for (int i = imin.x(); i <= imax.x(); ++i) {
-      for (int j = imin.y(); j <= imax.y(); ++j) {
-        for (int k = imin.z(); k <= imax.z(); ++k) {
-          const double d = scene.sdf(Vec3(i * voxel, j * voxel, k * voxel), z);
-          if (std::abs(d) < half_width) acc.setValue(openvdb::Coord(i, j, k), static_cast<float>(d));
-        }
-      }
-    }
-  }
-  openvdb::tools::signedFloodFill(grid->tree());
-
-  FrameMesh mesh = mesh_level_set(*grid);
+  FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, z); }, lo_all, hi_all,
+                                       volume_voxel_size(options));
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     mesh.velocities[v] = scene.velocity(mesh.positions[v], z, vz);
   }

@@ -394,12 +394,14 @@ FrameMesh make_stream_rock(const SceneOptions& options) {
   return mesh;
 }
 
-const char* const kSceneNames[] = {"rotation", "split", "merge", "drop", "stream", "stream-rock"};
+const char* const kSceneNames[] = {"rotation", "split", "merge", "drop", "pour", "stream", "stream-rock"};
 
 void validate(const std::string& scene, const SceneOptions& options) {
   bool known = false;
   for (const char* name : kSceneNames) known = known || scene == name;
-  if (!known) throw InputError("", "unknown scene '" + scene + "' (known: rotation, split, merge, drop, stream, stream-rock)");
+  if (!known) {
+    throw InputError("", "unknown scene '" + scene + "' (known: rotation, split, merge, drop, pour, stream, stream-rock)");
+  }
   if (options.frames < 1) {
     throw InputError("", "invalid frame count " + std::to_string(options.frames) + " (must be >= 1)");
   }
@@ -412,9 +414,9 @@ void validate(const std::string& scene, const SceneOptions& options) {
   if (options.format != "ply" && options.format != "vdb") {
     throw InputError("", "unknown format '" + options.format + "' (known: ply, vdb)");
   }
-  if (options.format == "vdb" && scene != "drop") {
+  if (options.format == "vdb" && scene != "drop" && scene != "pour") {
     throw InputError("", "scene '" + scene + "' is a flat open sheet, which a level set cannot hold: --format vdb "
-                         "is for the 3D scene (drop)");
+                         "is for the 3D scenes (drop, pour)");
   }
   if (options.staggered && options.format != "vdb") throw InputError("", "--staggered needs --format vdb");
 }
@@ -442,6 +444,7 @@ FrameMesh make_scene_frame(const std::string& scene, int frame, const SceneOptio
   if (scene == "merge") return make_merge(frame, options);
   if (scene == "stream") return make_stream(options);
   if (scene == "stream-rock") return make_stream_rock(options);
+  if (scene == "pour") return detail::make_pour_frame(frame, options);
   return detail::make_drop_frame(frame, options);
 }
 
@@ -484,7 +487,7 @@ std::string write_scene(const std::string& scene, const std::string& dir, const 
     const FrameMesh mesh = make_scene_frame(scene, frame, options);
     if (options.format == "vdb") {
       write_vdb_frame(frame_path(frame), mesh,
-                      {.voxel_size = detail::drop_voxel_size(options), .staggered = options.staggered});
+                      {.voxel_size = detail::volume_voxel_size(options), .staggered = options.staggered});
     } else {
       write_frame_ply(frame_path(frame), mesh, options.fps);
     }

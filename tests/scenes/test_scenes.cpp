@@ -142,12 +142,12 @@ SceneOptions opts(int resolution, int frames = 48) {
 
 TEST(Scenes, NamesAndErrors) {
   EXPECT_EQ(scene_names(),
-            (std::vector<std::string>{"rotation", "split", "merge", "drop", "stream", "stream-rock"}));
+            (std::vector<std::string>{"rotation", "split", "merge", "drop", "pour", "stream", "stream-rock"}));
   try {
     make_scene_frame("vortex", 1, opts(8));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "unknown scene 'vortex' (known: rotation, split, merge, drop, stream, stream-rock)");
+    EXPECT_EQ(std::string(e.what()), "unknown scene 'vortex' (known: rotation, split, merge, drop, pour, stream, stream-rock)");
   }
   SceneOptions bad = opts(8);
   bad.frames = 0;
@@ -371,6 +371,39 @@ TEST(Scenes, DropVelocitiesCarryFrameToNext) {
     const Advection adv = advect(a, b, dt, [](const Vec3&) { return true; });
     EXPECT_LT(adv.median, 0.05) << "drop frame " << frame;
     EXPECT_LT(adv.p95, 0.25) << "drop frame " << frame;
+  }
+}
+
+TEST(Scenes, PourIsClosedOutwardAndLands) {
+  const SceneOptions o = opts(32, 72);
+  std::map<int, double> volume;
+  for (int frame : {1, 6, 12, 72}) {
+    const FrameMesh mesh = make_scene_frame("pour", frame, o);
+    const std::string what = "pour frame " + std::to_string(frame);
+    expect_valid_mesh(mesh, what);
+    EXPECT_GT(closed_edge_fraction(mesh), 0.999) << what;
+    EXPECT_NEAR(bounding_box(mesh).max.z(), 0.8, 0.05) << what;  // the nozzle
+    volume[frame] = signed_volume(mesh);
+    // In flight until about frame 10, one body after.
+    EXPECT_EQ(components(mesh), frame <= 6 ? 2 : 1) << what;
+  }
+  // The pool [-1,1]^2 x [-0.5, 0] at first; once the jet has landed, the
+  // volume grows by the nozzle's flux (pi 0.16^2 1.5 units^3/s).
+  EXPECT_NEAR(volume[1], 2.0, 0.1);
+  EXPECT_NEAR(volume[72] - volume[12], M_PI * 0.16 * 0.16 * 1.5 * 60.0 / 24.0, 0.03);
+}
+
+// As for the drop: frames before and after the jet lands (frame 10) and
+// once it pours steadily. The nozzle's cap is left out: the liquid enters
+// through it along its normal.
+TEST(Scenes, PourVelocitiesCarryFrameToNext) {
+  const SceneOptions o = opts(32, 72);
+  const double dt = 1.0 / o.fps;
+  for (int frame : {5, 10, 11, 40}) {
+    const FrameMesh a = make_scene_frame("pour", frame, o), b = make_scene_frame("pour", frame + 1, o);
+    const Advection adv = advect(a, b, dt, [](const Vec3& p) { return p.z() < 0.7; });
+    EXPECT_LT(adv.median, 0.05) << "pour frame " << frame;
+    EXPECT_LT(adv.p95, 0.25) << "pour frame " << frame;
   }
 }
 

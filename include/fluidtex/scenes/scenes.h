@@ -20,6 +20,13 @@
 ///    union; contact at mid-sequence. Each frame is sampled into an OpenVDB
 ///    level set (voxel 2.2 / resolution) and meshed with volumeToMesh:
 ///    closed, outward-oriented surface.
+///  - `pour`: 3D, a jet from a nozzle 0.8 above the same pool, falling
+///    under gravity (it thins as it speeds up) and landing about 9 frames
+///    in (24 fps); the pool's top is drawn towards it and its level rises
+///    with the poured volume. Surface is made where the jet leaves the
+///    nozzle (the liquid enters through the nozzle's cap) and destroyed
+///    where it plunges, every frame: sources and sinks inside a closed
+///    mesh (scene_pour.cpp). Meshed as `drop` is.
 ///  - `stream`, `stream-rock`: open boundaries. A fixed window of a channel,
 ///    [-1.5, 1.5] x [-0.5, 0.5], through which the liquid moves in +x at
 ///    about 1.2 units/s (stream: uniformly, the liquid moving rigidly;
@@ -50,8 +57,8 @@ struct SceneOptions {
   /// for all scenes.
   int resolution = 64;
   /// File format written by write_scene: "ply" (x y z vx vy vz) or "vdb" (a
-  /// level set `surface` and a velocity grid `vel`; 3D scenes only, whose
-  /// surfaces are closed).
+  /// level set `surface` and a velocity grid `vel`; the 3D scenes only, drop
+  /// and pour, whose surfaces are closed).
   std::string format = "ply";
   bool staggered = false;  ///< vdb: write the velocity as a staggered (MAC) grid
 };
