@@ -29,6 +29,22 @@ FrameMesh mesh_distance_field(const DistanceField& field, const Vec3& lo, const 
 /// Signed distance to the box centre ± half with edges rounded by `round`.
 double rounded_box_distance(const Vec3& p, const Vec3& centre, const Vec3& half, double round);
 
+/// The pool of the 3D scenes: the box [-1,1]² × [-0.5, top] (top 0 when
+/// still) with its edges rounded by 0.08, a closed surface.
+struct Pool {
+  double half_width = 1.0;
+  double bottom = -0.5;
+  double round = 0.08;
+  double distance(const Vec3& p, double top = 0.0) const;
+  double area() const { return 4.0 * half_width * half_width; }
+  Vec3 lo() const { return {-half_width, -half_width, bottom}; }
+  Vec3 hi(double top = 0.0) const { return {half_width, half_width, top}; }
+};
+
+/// The quadratic smooth minimum of the distances a and b over width k;
+/// `mix` receives a's weight (d/da), 1 where a alone counts.
+double smooth_union(double a, double b, double k, double* mix = nullptr);
+
 /// Central-difference gradient of `field` at p.
 Vec3 field_gradient(const DistanceField& field, const Vec3& p);
 

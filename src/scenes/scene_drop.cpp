@@ -34,10 +34,7 @@ namespace fluidtex::detail {
 namespace {
 
 struct DropScene {
-  // Pool.
-  Vec3 pool_centre{0.0, 0.0, -0.25};
-  Vec3 pool_half{1.0, 1.0, 0.25};
-  double pool_round = 0.08;
+  Pool pool;
   // Drop.
   double radius = 0.25;
   Vec2 drop_xy{0.12, -0.08};
@@ -70,15 +67,10 @@ struct DropScene {
     }
   }
 
-  double pool_sdf(const Vec3& p) const { return rounded_box_distance(p, pool_centre, pool_half, pool_round); }
-
   /// Smooth union; `h` returns the sphere's weight (dF / d sphere_sdf).
   double sdf(const Vec3& p, double z, double* h = nullptr) const {
     const double a = (p - Vec3(drop_xy.x(), drop_xy.y(), z)).norm() - radius;
-    const double b = pool_sdf(p);
-    const double mix = std::clamp(0.5 + 0.5 * (b - a) / blend, 0.0, 1.0);
-    if (h) *h = mix;
-    return mix * a + (1.0 - mix) * b - blend * mix * (1.0 - mix);
+    return smooth_union(a, pool.distance(p), blend, h);
   }
 
   Vec3 velocity(const Vec3& p, double z, double vz) const {
@@ -105,15 +97,10 @@ FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
   scene.drop_motion(t, z, vz);
 
   // The box around the pool and the drop's current position.
-  const Vec3 lo(scene.pool_centre.x() - scene.pool_half.x(), scene.pool_centre.y() - scene.pool_half.y(),
-                scene.pool_centre.z() - scene.pool_half.z());
-  const Vec3 hi(scene.pool_centre.x() + scene.pool_half.x(), scene.pool_centre.y() + scene.pool_half.y(),
-                std::max(0.0, z + scene.radius));
-  const Vec3 lo_all =
-      lo.cwiseMin(Vec3(scene.drop_xy.x() - scene.radius, scene.drop_xy.y() - scene.radius, z - scene.radius));
-  const Vec3 hi_all =
-      hi.cwiseMax(Vec3(scene.drop_xy.x() + scene.radius, scene.drop_xy.y() + scene.radius, z + scene.radius));
-  FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, z); }, lo_all, hi_all,
+  const Vec3 centre(scene.drop_xy.x(), scene.drop_xy.y(), z);
+  const Vec3 lo = scene.pool.lo().cwiseMin(centre - Vec3::Constant(scene.radius));
+  const Vec3 hi = scene.pool.hi().cwiseMax(centre + Vec3::Constant(scene.radius));
+  FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, z); }, lo, hi,
                                        volume_voxel_size(options));
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     mesh.velocities[v] = scene.velocity(mesh.positions[v], z, vz);

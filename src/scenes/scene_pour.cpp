@@ -40,9 +40,7 @@ namespace fluidtex::detail {
 namespace {
 
 struct PourScene {
-  Vec3 pool_centre{0.0, 0.0, -0.25};
-  Vec3 pool_half{1.0, 1.0, 0.25};
-  double pool_round = 0.08;
+  Pool pool;
   Vec2 axis{0.1, -0.05};
   double nozzle = 0.8;
   double nozzle_radius = 0.16;
@@ -65,12 +63,11 @@ struct PourScene {
   }
   /// Time at which the front reaches the pool's starting level.
   double landing() const {
-    const double drop = nozzle;
-    return (-nozzle_speed + std::sqrt(nozzle_speed * nozzle_speed + 2.0 * gravity * drop)) / gravity;
+    return (-nozzle_speed + std::sqrt(nozzle_speed * nozzle_speed + 2.0 * gravity * nozzle)) / gravity;
   }
   double flux() const { return M_PI * nozzle_radius * nozzle_radius * nozzle_speed; }
   double rise_speed(double t) const {
-    return t > landing() ? flux() / (4.0 * pool_half.x() * pool_half.y()) : 0.0;
+    return t > landing() ? flux() / pool.area() : 0.0;
   }
   double level(double t) const { return rise_speed(t) * std::max(0.0, t - landing()); }
 
@@ -89,19 +86,8 @@ struct PourScene {
     return std::min(column, sphere);
   }
 
-  double pool_sdf(const Vec3& p, double t) const {
-    const double top = level(t);
-    const Vec3 centre(pool_centre.x(), pool_centre.y(), 0.5 * (top - 2.0 * pool_half.z()));
-    const Vec3 half(pool_half.x(), pool_half.y(), 0.5 * (top + 2.0 * pool_half.z()));
-    return rounded_box_distance(p, centre, half, pool_round);
-  }
-
   double sdf(const Vec3& p, double t, double* h = nullptr, bool* on_cap = nullptr) const {
-    const double a = jet_sdf(p, t, on_cap);
-    const double b = pool_sdf(p, t);
-    const double mix = std::clamp(0.5 + 0.5 * (b - a) / blend, 0.0, 1.0);
-    if (h) *h = mix;
-    return mix * a + (1.0 - mix) * b - blend * mix * (1.0 - mix);
+    return smooth_union(jet_sdf(p, t, on_cap), pool.distance(p, level(t)), blend, h);
   }
 
   Vec3 pool_velocity(const Vec3& p, double t) const {
@@ -133,10 +119,8 @@ struct PourScene {
 FrameMesh make_pour_frame(int frame, const SceneOptions& options) {
   const PourScene scene;
   const double t = frame_time(frame, options);
-  const Vec3 lo = scene.pool_centre - scene.pool_half;
-  const Vec3 hi(scene.pool_centre.x() + scene.pool_half.x(), scene.pool_centre.y() + scene.pool_half.y(),
-                scene.nozzle);
-  FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, t); }, lo, hi,
+  FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, t); }, scene.pool.lo(),
+                                       scene.pool.hi(scene.nozzle),
                                        volume_voxel_size(options));
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.velocities[v] = scene.velocity(mesh.positions[v], t);
   return mesh;

@@ -19,6 +19,18 @@ double rounded_box_distance(const Vec3& p, const Vec3& centre, const Vec3& half,
   return outside + inside - round;
 }
 
+double Pool::distance(const Vec3& p, double top) const {
+  const Vec3 centre(0.0, 0.0, 0.5 * (top + bottom));
+  const Vec3 half(half_width, half_width, 0.5 * (top - bottom));
+  return rounded_box_distance(p, centre, half, round);
+}
+
+double smooth_union(double a, double b, double k, double* mix) {
+  const double h = std::clamp(0.5 + 0.5 * (b - a) / k, 0.0, 1.0);
+  if (mix) *mix = h;
+  return h * a + (1.0 - h) * b - k * h * (1.0 - h);
+}
+
 Vec3 field_gradient(const DistanceField& field, const Vec3& p) {
   const double e = 1e-5;
   Vec3 grad;

@@ -1,5 +1,7 @@
 #include "fluidtex/tracking/fading.h"
 
+#include <algorithm>
+
 namespace fluidtex {
 
 int age_bucket(int age) {
@@ -19,8 +21,9 @@ double fade_rate(int rho, int fade_frames, Fading fading, double motion) {
   return fading == Fading::Flow && motion > rate ? motion : rate;
 }
 
-FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion) {
-  const double rate = fade_rate(rho, fade_frames, fading, motion);
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion,
+                     double at_least) {
+  const double rate = std::max(fade_rate(rho, fade_frames, fading, motion), at_least);
   switch (state) {
     case DiskState::FadingIn:
       kt += rate;  // Eq. 6, first line

@@ -125,7 +125,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   std::vector<int> bare_faces;
   const std::vector<SurfaceSample> fresh = poisson_update(*surface, samples, frame, report, bare_faces);  // 3
   add_patches(*surface, fresh, frame, report);
-  std::vector<int> vacated = fade(*surface, report);  // 4
+  std::vector<int> vacated = fade(*surface, change ? &*change : nullptr, report);  // 4
   weigh(report);                                      // 5
   if (settings_.coverage_aware) {
     if (!started_) {
@@ -509,20 +509,29 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
   }
 }
 
-std::vector<int> Tracker::fade(const SurfaceIndex& surface, StepReport& report) {
+std::vector<int> Tracker::fade(const SurfaceIndex& surface, const SurfaceChange* change, StepReport& report) {
   const ScopedStage stage(report.seconds, "fading");
   const TrackingOptions& o = settings_.method;
   std::vector<SurfaceSample> all;
   all.reserve(patches_.size());
   for (const Patch& p : patches_) all.push_back(p.center);
   const std::vector<int> rho = disk_density(all, poisson_params(o));
+  const int steps = std::max(1, report.frame - frame_);
   std::vector<Patch> survivors;
   survivors.reserve(patches_.size());
   std::vector<int> vacated;
   for (std::size_t i = 0; i < patches_.size(); ++i) {
     Patch& p = patches_[i];
     p.density = rho[i];
-    const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion);
+    // A sunk patch is gone by the time the surface around it has lost
+    // another α of its area: where the liquid destroys surface faster than
+    // the fade would take, the patches carried in would stack up there.
+    // (The change is per frame; a step of several frames fades once.)
+    double at_least = 0.0;
+    if (change && p.cause == RetireCause::Sunk && is_fading_out(p.state)) {
+      at_least = steps * std::max(0.0, -change->at(p.center.point)) / -std::log(1.0 - o.kill_alpha);
+    }
+    const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion, at_least);
     if (r.remove) {
       ++report.removed;
       report.removals.push_back(p.center.point.position);

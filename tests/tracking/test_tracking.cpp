@@ -126,6 +126,17 @@ TEST(Fading, DensityFadesFasterAndRemovesAtZero) {
   EXPECT_DOUBLE_EQ(r.kt, 1.0);
 }
 
+TEST(Fading, AFloorOnTheRateShortensTheFadeButNeverSlowsIt) {
+  // The sink rule's floor (a sunk patch goes as fast as its surface): K_t
+  // falls by the larger of Eq. 6's rate and the floor.
+  FadeResult r = fade_step(DiskState::FadingOutClose, 1.0, 0, 10, Fading::Flow, 0.0, 0.35);
+  EXPECT_NEAR(r.kt, 0.65, 1e-12);
+  r = fade_step(DiskState::FadingOutClose, 1.0, 4, 10, Fading::Flow, 0.0, 0.35);
+  EXPECT_NEAR(r.kt, 0.5, 1e-12);  // Eq. 6's (ρ + 1)/τ is faster
+  r = fade_step(DiskState::FadingOutClose, 0.3, 0, 10, Fading::Flow, 0.0, 0.35);
+  EXPECT_TRUE(r.remove);
+}
+
 // --- Patches: LSCM, Eq. 4 -----------------------------------------------------
 
 SurfaceSample sample_near(const SurfaceIndex& s, const Vec3& p) {

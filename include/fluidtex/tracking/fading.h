@@ -78,7 +78,9 @@ double fade_rate(int rho, int fade_frames, Fading fading, double motion);
 /// One frame of fading for a disk in `state` with weight `kt` and density
 /// `rho` (other disks in the same plane within radius d, any state);
 /// `motion` is how far its centre moved this frame, in units of d
-/// (Fading::Flow).
-FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion = 0.0);
+/// (Fading::Flow); K_t changes by at least `at_least` (a sunk patch: the
+/// surface around it going, Sink::Fade).
+FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion = 0.0,
+                     double at_least = 0.0);
 
 }  // namespace fluidtex

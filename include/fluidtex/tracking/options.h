@@ -85,8 +85,11 @@ enum class Sink {
   /// pairs that part again (surface squeezed by a passing wave and stretched
   /// after it); where the surface they stand on is being destroyed (an
   /// outflow, a jet plunging into a pool, sheets merging) they do not, and
-  /// each frame of waiting stacks another pair there. While it fades, a
-  /// sunk patch still counts as cover and as a disk, so no new disk is
+  /// each frame of waiting stacks another pair there. It fades at least as
+  /// fast as that surface goes: K_t falls each frame by at least the
+  /// surface's loss rate there over −ln(1 − α), so it is gone by the time
+  /// the surface around it has lost another α of its area. While it fades,
+  /// a sunk patch still counts as cover and as a disk, so no new disk is
   /// seeded on the surface that is going; the faces it leaves bare are
   /// refilled when it is gone.
   Fade,
@@ -139,7 +142,7 @@ struct TrackingOptions {
   double max_distortion = 3.0;           ///< δmax: Sorkine distortion at which Q_T = 0
   double uv_scale = 1.0;                 ///< s: uv scale applied at exemplar lookup
   std::optional<double> max_projection;  ///< mpt: max distance to re-project a vertex; unset = 0.25 × d
-  int fade_frames = 32;                  ///< τ: fading period in frames (48 until 2026-12-05; docs/method.md)
+  int fade_frames = 32;                  ///< τ: fading period in frames (docs/method.md)
   std::optional<double> thickness;       ///< cs: ellipsoid half-thickness along N; unset = 0.25 × d
   double kill_alpha = 0.25;              ///< α: kill distance is (1 − α)·d (Table 4)
   double min_vertex_quality = 0.5;       ///< Q_vmin: a vertex below this distorts its patch (Table 4)

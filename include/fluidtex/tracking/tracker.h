@@ -187,7 +187,7 @@ class Tracker {
   /// Density and K_t; removes the patches faded out. Returns the faces of
   /// `surface` within reach of the removed sinking patches (Sink::Fade),
   /// which the Poisson update counted as covered.
-  std::vector<int> fade(const SurfaceIndex& surface, StepReport& report);
+  std::vector<int> fade(const SurfaceIndex& surface, const SurfaceChange* change, StepReport& report);
   void weigh(StepReport& report);
   /// Where the step from the previous surface to `surface` makes and
   /// destroys surface (measure_surface_change at radius d).
