@@ -15,6 +15,7 @@
 #include <cstring>
 #include <functional>
 #include <numbers>
+#include <span>
 #include <string>
 #include <unordered_map>
 
@@ -395,12 +396,21 @@ FrameMesh make_stream_rock(const SceneOptions& options) {
 }
 
 const char* const kSceneNames[] = {"rotation", "split", "merge", "drop", "pour", "stream", "stream-rock"};
+const char* const kVolumeScenes[] = {"drop", "pour"};  // closed 3D surfaces: a level set holds them
+
+std::string name_list(std::span<const char* const> names) {
+  std::string list;
+  for (const char* name : names) list += (list.empty() ? "" : ", ") + std::string(name);
+  return list;
+}
+
+bool listed(std::span<const char* const> names, const std::string& scene) {
+  return std::any_of(names.begin(), names.end(), [&](const char* name) { return scene == name; });
+}
 
 void validate(const std::string& scene, const SceneOptions& options) {
-  bool known = false;
-  for (const char* name : kSceneNames) known = known || scene == name;
-  if (!known) {
-    throw InputError("", "unknown scene '" + scene + "' (known: rotation, split, merge, drop, pour, stream, stream-rock)");
+  if (!listed(kSceneNames, scene)) {
+    throw InputError("", "unknown scene '" + scene + "' (known: " + name_list(kSceneNames) + ")");
   }
   if (options.frames < 1) {
     throw InputError("", "invalid frame count " + std::to_string(options.frames) + " (must be >= 1)");
@@ -414,9 +424,9 @@ void validate(const std::string& scene, const SceneOptions& options) {
   if (options.format != "ply" && options.format != "vdb") {
     throw InputError("", "unknown format '" + options.format + "' (known: ply, vdb)");
   }
-  if (options.format == "vdb" && scene != "drop" && scene != "pour") {
+  if (options.format == "vdb" && !listed(kVolumeScenes, scene)) {
     throw InputError("", "scene '" + scene + "' is a flat open sheet, which a level set cannot hold: --format vdb "
-                         "is for the 3D scenes (drop, pour)");
+                         "is for the 3D scenes (" + name_list(kVolumeScenes) + ")");
   }
   if (options.staggered && options.format != "vdb") throw InputError("", "--staggered needs --format vdb");
 }
