@@ -816,18 +816,23 @@ void Synthesizer::accumulate_tails(TileSums& tile, Tally& tally) const {
     if (is_open[k.texel]) present.emplace_back(k.texel, k.patch);
   }
   std::sort(present.begin(), present.end());
-  std::vector<PatchHit> hits;
+  std::vector<Vec3> points, normals;
+  points.reserve(open.size());
+  normals.reserve(open.size());
   for (std::size_t j : open) {
     const int x = tile.rect.x0 + static_cast<int>(j % kTile), y = tile.rect.y0 + static_cast<int>(j / kTile);
     const std::size_t i = texel_index(x, y, n_);
     const SurfacePoint s = surface_.at(map_.face[i], map_.bary(i));
-    const Vec3 normal = surface_.normal_at(s);
-    coverage_->locate(s.position, normal, hits);
+    points.push_back(s.position);
+    normals.push_back(surface_.normal_at(s));
+  }
+  coverage_->locate_each(points, normals, [&](std::size_t k, std::vector<PatchHit>& hits) {
+    const std::size_t j = open[k];
     std::erase_if(hits, [&](const PatchHit& h) {
       return std::binary_search(present.begin(), present.end(), std::make_pair(j, h.patch));
     });
-    add_hits(hits, s.position, normal, tile, j, tally);
-  }
+    add_hits(hits, points[k], normals[k], tile, j, tally);
+  });
 }
 
 /// A patch triangle whose corners lie in one chart, rasterised in atlas space.

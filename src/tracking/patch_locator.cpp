@@ -380,47 +380,48 @@ bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
   return false;
 }
 
-std::ptrdiff_t PatchCoverage::first_uncovered(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                                              std::size_t from) const {
-  const Bounds& B = *bounds_;
-  if (from >= points.size()) return -1;
-  if (B.patch.empty()) return static_cast<std::ptrdiff_t>(from);
-  // The patches whose sphere reaches the points' bounding sphere, nearest
-  // first; each point tries the patch that covered the point before it first.
-  Vec3 c = Vec3::Zero();
-  for (std::size_t i = from; i < points.size(); ++i) c += points[i];
-  c /= static_cast<double>(points.size() - from);
-  double r = 0.0;
-  for (std::size_t i = from; i < points.size(); ++i) r = std::max(r, (points[i] - c).norm());
-  const std::vector<std::size_t> candidates = near(c, r);
-  // Per candidate, its triangles whose sphere reaches the ball (c, r), the
-  // only ones a point can project onto, with their projections (made when
-  // the candidate is first tried, once for all the points).
-  struct Near {
-    bool listed = false;
-    std::vector<int> tri;
-    std::vector<TriangleProjection> projection;
-  };
-  std::vector<Near> subsets(candidates.size());
-  // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
-  auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
-    const std::size_t k = candidates[j];
+/// The patches whose sphere reaches the ball (c, r) around a set of query
+/// points close together (one face's samples, one tile's texels), nearest
+/// first, and per patch, listed when it is first tried, its triangles whose
+/// sphere reaches the ball with their projections: found once for all the
+/// points instead of once per point.
+class PatchCoverage::Ball {
+ public:
+  Ball(const PatchCoverage& coverage, const std::vector<Vec3>& points, std::size_t from) : coverage_(&coverage) {
+    c_ = Vec3::Zero();
+    for (std::size_t i = from; i < points.size(); ++i) c_ += points[i];
+    c_ /= static_cast<double>(points.size() - from);
+    r_ = 0.0;
+    for (std::size_t i = from; i < points.size(); ++i) r_ = std::max(r_, (points[i] - c_).norm());
+    candidates_ = coverage.near(c_, r_);
+    subsets_.resize(candidates_.size());
+  }
+  std::size_t size() const { return candidates_.size(); }
+  /// The bounded index (PatchCoverage::Bounds) of candidate j.
+  std::size_t bounded(std::size_t j) const { return candidates_[j]; }
+
+  /// Whether candidate j's sphere holds p, and then the nearest of its
+  /// triangles that p (normal n) projects onto (lowest index on a tie), as
+  /// nearest_triangle over the whole patch: the triangles left out cannot
+  /// reach any point of the ball. False when there is none.
+  bool nearest(std::size_t j, const Vec3& p, const Vec3& n, int& nearest, Vec3& nearest_bary) {
+    const Bounds& B = *coverage_->bounds_;
+    const std::size_t k = candidates_[j];
     if ((B.centre[k] - p).squaredNorm() > B.radius[k] * B.radius[k]) return false;
-    const Patch& patch = (*patches_)[B.patch[k]];
     const std::size_t base = B.tri_base[k];
-    Near& sub = subsets[j];
+    Subset& sub = subsets_[j];
     if (!sub.listed) {
       sub.listed = true;
+      const Patch& patch = (*coverage_->patches_)[B.patch[k]];
       for (std::size_t t = 0; t < B.tri_base[k + 1] - base; ++t) {
-        const double reach = B.tri_reach[base + t] + r;
-        if ((B.tri_centre[base + t] - c).squaredNorm() > reach * reach) continue;
+        const double reach = B.tri_reach[base + t] + r_;
+        if ((B.tri_centre[base + t] - c_).squaredNorm() > reach * reach) continue;
         sub.tri.push_back(static_cast<int>(t));
-        sub.projection.emplace_back(patch, patch.triangles[t], tolerance_);
+        sub.projection.emplace_back(patch, patch.triangles[t], coverage_->tolerance_);
       }
     }
     double best = std::numeric_limits<double>::infinity();
-    int nearest = -1;
-    Vec3 nearest_bary;
+    nearest = -1;
     for (std::size_t e = 0; e < sub.tri.size(); ++e) {
       const std::size_t t = static_cast<std::size_t>(sub.tri[e]);
       if ((B.tri_centre[base + t] - p).squaredNorm() > B.tri_reach[base + t] * B.tri_reach[base + t]) continue;
@@ -431,13 +432,42 @@ std::ptrdiff_t PatchCoverage::first_uncovered(const std::vector<Vec3>& points, c
       nearest = static_cast<int>(t);
       nearest_bary = bary;
     }
-    return nearest >= 0 && interpolate(patch.weight, patch.triangles[nearest], nearest_bary) > 0.0;
+    return nearest >= 0;
+  }
+
+ private:
+  struct Subset {
+    bool listed = false;
+    std::vector<int> tri;
+    std::vector<TriangleProjection> projection;
   };
-  std::size_t last = candidates.size();
+  const PatchCoverage* coverage_;
+  Vec3 c_;
+  double r_;
+  std::vector<std::size_t> candidates_;
+  std::vector<Subset> subsets_;
+};
+
+std::ptrdiff_t PatchCoverage::first_uncovered(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                              std::size_t from) const {
+  const Bounds& B = *bounds_;
+  if (from >= points.size()) return -1;
+  if (B.patch.empty()) return static_cast<std::ptrdiff_t>(from);
+  Ball ball(*this, points, from);
+  // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
+  auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
+    int t;
+    Vec3 bary;
+    if (!ball.nearest(j, p, n, t, bary)) return false;
+    const Patch& patch = (*patches_)[B.patch[ball.bounded(j)]];
+    return interpolate(patch.weight, patch.triangles[t], bary) > 0.0;
+  };
+  // Each point tries the patch that covered the point before it first.
+  std::size_t last = ball.size();
   for (std::size_t i = from; i < points.size(); ++i) {
     const Vec3& p = points[i];
-    bool covered = last < candidates.size() && covers(last, p, normals[i]);
-    for (std::size_t j = 0; j < candidates.size() && !covered; ++j) {
+    bool covered = last < ball.size() && covers(last, p, normals[i]);
+    for (std::size_t j = 0; j < ball.size() && !covered; ++j) {
       if (j == last || !covers(j, p, normals[i])) continue;
       covered = true;
       last = j;
@@ -445,6 +475,33 @@ std::ptrdiff_t PatchCoverage::first_uncovered(const std::vector<Vec3>& points, c
     if (!covered) return static_cast<std::ptrdiff_t>(i);
   }
   return -1;
+}
+
+void PatchCoverage::locate_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                const std::function<void(std::size_t, std::vector<PatchHit>&)>& found) const {
+  const Bounds& B = *bounds_;
+  std::vector<PatchHit> hits;
+  if (B.patch.empty()) {
+    for (std::size_t i = 0; i < points.size(); ++i) found(i, hits);
+    return;
+  }
+  if (points.empty()) return;
+  Ball ball(*this, points, 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    hits.clear();
+    for (std::size_t j = 0; j < ball.size(); ++j) {
+      PatchHit hit;
+      if (!ball.nearest(j, points[i], normals[i], hit.tri, hit.bary)) continue;
+      const Patch& patch = (*patches_)[B.patch[ball.bounded(j)]];
+      const Tri& tri = patch.triangles[hit.tri];
+      hit.patch = B.patch[ball.bounded(j)];
+      hit.uv = interpolate(patch.uvs, tri, hit.bary);
+      hit.weight = interpolate(patch.weight, tri, hit.bary);
+      hits.push_back(hit);
+    }
+    std::sort(hits.begin(), hits.end(), [](const PatchHit& x, const PatchHit& y) { return x.patch < y.patch; });
+    found(i, hits);
+  }
 }
 
 bool PatchCoverage::nearest(const Vec3& p, const Vec3& n, double reach, PatchHit& hit) const {

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -149,6 +150,12 @@ class PatchLocator {
   /// triangle facing away from `n` (the other side of a thin sheet) does
   /// not cover. Thread safe.
   void locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const;
+  /// locate() for each of `points` (unit normals `normals`) in turn, for
+  /// points close together (one tile's texels), whose candidate patches and
+  /// triangles are found once: `found(i, hits)` with point i's hits. Thread
+  /// safe.
+  void locate_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                   const std::function<void(std::size_t, std::vector<PatchHit>&)>& found) const;
 
  private:
   struct Tree;
@@ -186,6 +193,12 @@ class PatchCoverage {
   /// tolerance (every covering patch, its nearest triangle, in patch order),
   /// for a few points: no tree over the patch triangles is built. Thread safe.
   void locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const;
+  /// locate() for each of `points` (unit normals `normals`) in turn, for
+  /// points close together (one tile's texels), whose candidate patches and
+  /// triangles are found once: `found(i, hits)` with point i's hits. Thread
+  /// safe.
+  void locate_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                   const std::function<void(std::size_t, std::vector<PatchHit>&)>& found) const;
   /// The nearest point of any patch triangle facing `n` within `reach` of
   /// `p` (in-plane distance too, unlike locate()); false when there is none.
   /// Thread safe.
@@ -197,6 +210,7 @@ class PatchCoverage {
   /// The bounded patches whose sphere reaches the ball (c, r), nearest first.
   std::vector<std::size_t> near(const Vec3& c, double r) const;
   struct Bounds;
+  class Ball;
   const std::vector<Patch>* patches_;
   double tolerance_;
   std::unique_ptr<Bounds> bounds_;
