@@ -665,6 +665,25 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   const PatchCoverage coverage(t.patches(), tol, &half);
   const SurfaceIndex& surface = *t.surface();
   std::vector<PatchHit> hits, found;
+  // locate_each's hits for a group of points are locate()'s for each.
+  auto locate_each_agrees = [&](const std::vector<Vec3>& points, const std::vector<Vec3>& normals) {
+    std::size_t calls = 0;
+    coverage.locate_each(points, normals, [&](std::size_t i, std::vector<PatchHit>& each) {
+      ASSERT_EQ(i, calls++);
+      std::vector<PatchHit> one;
+      coverage.locate(points[i], normals[i], one);
+      ASSERT_EQ(each.size(), one.size()) << "point " << i;
+      for (std::size_t h = 0; h < one.size(); ++h) {
+        ASSERT_EQ(each[h].patch, one[h].patch) << "point " << i;
+        ASSERT_EQ(each[h].tri, one[h].tri) << "point " << i;
+        ASSERT_EQ(each[h].bary, one[h].bary) << "point " << i;
+        ASSERT_EQ(each[h].uv, one[h].uv) << "point " << i;
+        ASSERT_EQ(each[h].weight, one[h].weight) << "point " << i;
+      }
+    });
+    ASSERT_EQ(calls, points.size());
+  };
+  std::vector<Vec3> all_points, all_normals;
   int covered = 0, bare = 0;
   for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {
     std::vector<Vec3> points, normals;
@@ -695,6 +714,15 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
         if (!coverage.covers(points[i], normals[i])) expected = static_cast<std::ptrdiff_t>(i);
       ASSERT_EQ(coverage.first_uncovered(points, normals, from), expected) << "face " << f << " from " << from;
     }
+    locate_each_agrees(points, normals);
+    all_points.insert(all_points.end(), points.begin(), points.end());
+    all_normals.insert(all_normals.end(), normals.begin(), normals.end());
+  }
+  // Groups spread over many faces, as a tile's texels over several charts.
+  for (std::size_t first = 0; first < all_points.size(); first += 97) {
+    const std::size_t last = std::min(all_points.size(), first + 97);
+    locate_each_agrees({all_points.begin() + first, all_points.begin() + last},
+                       {all_normals.begin() + first, all_normals.begin() + last});
   }
   EXPECT_GT(covered, 1000);
   EXPECT_GT(bare, 100);
@@ -702,6 +730,13 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   const std::vector<Patch> none;
   EXPECT_FALSE(PatchCoverage(none, tol).covers(Vec3::Zero(), Vec3::UnitZ()));
   EXPECT_EQ(PatchCoverage(none, tol).first_uncovered({Vec3::Zero()}, {Vec3::UnitZ()}), 0);
+  int empty_calls = 0;
+  PatchCoverage(none, tol).locate_each({Vec3::Zero(), Vec3::UnitX()}, {Vec3::UnitZ(), Vec3::UnitZ()},
+                                       [&](std::size_t, std::vector<PatchHit>& each) {
+                                         EXPECT_TRUE(each.empty());
+                                         ++empty_calls;
+                                       });
+  EXPECT_EQ(empty_calls, 2);
 }
 
 TEST(PatchCoverage, NearestFindsTheClosestFacingPatchPoint) {

@@ -150,12 +150,6 @@ class PatchLocator {
   /// triangle facing away from `n` (the other side of a thin sheet) does
   /// not cover. Thread safe.
   void locate(const Vec3& p, const Vec3& n, std::vector<PatchHit>& hits) const;
-  /// locate() for each of `points` (unit normals `normals`) in turn, for
-  /// points close together (one tile's texels), whose candidate patches and
-  /// triangles are found once: `found(i, hits)` with point i's hits. Thread
-  /// safe.
-  void locate_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                   const std::function<void(std::size_t, std::vector<PatchHit>&)>& found) const;
 
  private:
   struct Tree;
