@@ -667,12 +667,32 @@ double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage&
 namespace fluidtex {
 
 std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage) {
-  std::vector<char> bare(samples.size(), 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      bare[i] = !coverage.covers(samples[i].point.position, samples[i].normal);
-    }
-  });
+  std::vector<char> bare(samples.size(), 0);
+  // The samples of one face at once (first_uncovered finds their candidate
+  // patches and triangles once), faces in parallel.
+  std::vector<std::size_t> order(samples.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return samples[a].point.face < samples[b].point.face; });
+  std::vector<std::size_t> group_start;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || samples[order[k]].point.face != samples[order[k - 1]].point.face) group_start.push_back(k);
+  }
+  group_start.push_back(order.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group_start.size() - 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<Vec3> points, normals;
+                      for (std::size_t g = r.begin(); g != r.end(); ++g) {
+                        points.clear(), normals.clear();
+                        for (std::size_t k = group_start[g]; k < group_start[g + 1]; ++k) {
+                          points.push_back(samples[order[k]].point.position);
+                          normals.push_back(samples[order[k]].normal);
+                        }
+                        for (std::ptrdiff_t i = coverage.first_uncovered(points, normals); i >= 0;
+                             i = coverage.first_uncovered(points, normals, static_cast<std::size_t>(i) + 1))
+                          bare[order[group_start[g] + static_cast<std::size_t>(i)]] = 1;
+                      }
+                    });
   return bare;
 }
 

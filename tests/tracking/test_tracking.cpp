@@ -718,6 +718,21 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
     all_points.insert(all_points.end(), points.begin(), points.end());
     all_normals.insert(all_normals.end(), normals.begin(), normals.end());
   }
+  // Samples of many faces in shuffled order (the dart-throwing candidates):
+  // bare exactly where covers() says so.
+  std::vector<SurfaceSample> samples;
+  for (std::size_t k = 0; k < all_points.size(); ++k) {
+    const std::size_t i = (k * 7919) % all_points.size();
+    SurfaceSample sample;
+    sample.point = surface.closest_point(all_points[i]);
+    sample.point.position = all_points[i];
+    sample.normal = all_normals[i];
+    samples.push_back(sample);
+  }
+  const std::vector<char> uncovered = uncovered_samples(samples, coverage);
+  ASSERT_EQ(uncovered.size(), samples.size());
+  for (std::size_t k = 0; k < samples.size(); ++k)
+    ASSERT_EQ(uncovered[k] != 0, !coverage.covers(samples[k].point.position, samples[k].normal)) << "sample " << k;
   // Groups spread over many faces, as a tile's texels over several charts.
   for (std::size_t first = 0; first < all_points.size(); first += 97) {
     const std::size_t last = std::min(all_points.size(), first + 97);
