@@ -649,6 +649,19 @@ TEST(Tracker, StateFileErrors) {
   EXPECT_THROW(Tracker::load(dir.file("missing.bin"), rotating_grid(1.0)), InputError);
 }
 
+/// Whether two lists hold the same hits (patch, triangle, barycentric
+/// coordinates, uv and weight) in the same order.
+::testing::AssertionResult same_hits(const std::vector<PatchHit>& a, const std::vector<PatchHit>& b) {
+  if (a.size() != b.size()) return ::testing::AssertionFailure() << a.size() << " hits against " << b.size();
+  for (std::size_t h = 0; h < a.size(); ++h) {
+    if (a[h].patch != b[h].patch || a[h].tri != b[h].tri || a[h].bary != b[h].bary || a[h].uv != b[h].uv ||
+        a[h].weight != b[h].weight)
+      return ::testing::AssertionFailure() << "hit " << h << " differs (patch " << a[h].patch << " against "
+                                           << b[h].patch << ")";
+  }
+  return ::testing::AssertionSuccess();
+}
+
 TEST(PatchCoverage, AgreesWithTheExactLocator) {
   // The cheap coverage test must give the locator's answer (some hit with
   // w > 0) everywhere, including near patch rims and fading patches.
@@ -672,14 +685,7 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
       ASSERT_EQ(i, calls++);
       std::vector<PatchHit> one;
       coverage.locate(points[i], normals[i], one);
-      ASSERT_EQ(each.size(), one.size()) << "point " << i;
-      for (std::size_t h = 0; h < one.size(); ++h) {
-        ASSERT_EQ(each[h].patch, one[h].patch) << "point " << i;
-        ASSERT_EQ(each[h].tri, one[h].tri) << "point " << i;
-        ASSERT_EQ(each[h].bary, one[h].bary) << "point " << i;
-        ASSERT_EQ(each[h].uv, one[h].uv) << "point " << i;
-        ASSERT_EQ(each[h].weight, one[h].weight) << "point " << i;
-      }
+      ASSERT_TRUE(same_hits(each, one)) << "point " << i;
     });
     ASSERT_EQ(calls, points.size());
   };
@@ -697,13 +703,7 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
       (expected ? covered : bare)++;
       // The same hits without a triangle tree.
       coverage.locate(s.position, n, found);
-      ASSERT_EQ(found.size(), hits.size()) << "face " << f;
-      for (std::size_t h = 0; h < hits.size(); ++h) {
-        ASSERT_EQ(found[h].patch, hits[h].patch) << "face " << f;
-        ASSERT_EQ(found[h].tri, hits[h].tri) << "face " << f;
-        ASSERT_EQ(found[h].bary, hits[h].bary) << "face " << f;
-        ASSERT_EQ(found[h].weight, hits[h].weight) << "face " << f;
-      }
+      ASSERT_TRUE(same_hits(found, hits)) << "face " << f;
       points.push_back(s.position);
       normals.push_back(n);
     }
