@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <utility>
 
 #include "fluidtex/geometry/point_index.h"
+#include "fluidtex/util/parallel.h"
 
 namespace fluidtex {
 
@@ -227,6 +229,7 @@ struct PatchCoverage::Bounds {
   std::vector<Vec3> tri_centre;
   std::vector<double> tri_reach;  // farthest corner + tolerance
   double max_radius = 0.0;
+  double cell = 0.0;  // uncovered_each's grouping: the median triangle reach
   std::unique_ptr<PointIndex> index;
 };
 
@@ -269,6 +272,11 @@ PatchCoverage::PatchCoverage(const std::vector<Patch>& patches, double tolerance
       B.tri_reach.push_back(r);
     }
     B.max_radius = std::max(B.max_radius, B.radius[k]);
+  }
+  if (!B.tri_reach.empty()) {
+    std::vector<double> reach = B.tri_reach;
+    std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
+    B.cell = reach[reach.size() / 2];
   }
   B.index = std::make_unique<PointIndex>(B.centre);
 }
@@ -504,6 +512,76 @@ void PatchCoverage::locate_each(const std::vector<Vec3>& points, const std::vect
   }
 }
 
+void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                   const std::vector<std::size_t>& start,
+                                   const std::function<void(std::size_t, std::size_t)>& bare) const {
+  const Bounds& B = *bounds_;
+  if (start.size() < 2) return;
+  const std::size_t groups = start.size() - 1;
+  if (B.patch.empty()) {
+    for (std::size_t g = 0; g < groups; ++g) {
+      for (std::size_t i = start[g]; i < start[g + 1]; ++i) bare(g, i);
+    }
+    return;
+  }
+  // The groups by the cell of their centroid (a cell per group where the
+  // size or a centroid is not usable), groups in order within a cell.
+  using Key = std::array<std::int64_t, 3>;
+  std::vector<std::pair<Key, std::size_t>> keyed(groups);
+  const bool by_cell = B.cell > 0.0 && std::isfinite(B.cell);
+  tbb::parallel_for(std::size_t(0), groups, [&](std::size_t g) {
+    Key key{static_cast<std::int64_t>(g), 0, 0};
+    if (by_cell && start[g + 1] > start[g]) {
+      Vec3 c = Vec3::Zero();
+      for (std::size_t i = start[g]; i < start[g + 1]; ++i) c += points[i];
+      const Vec3 q = (c / static_cast<double>(start[g + 1] - start[g]) / B.cell).array().floor();
+      if (q.allFinite() && q.cwiseAbs().maxCoeff() < 0x1p52) key = {static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()), static_cast<std::int64_t>(q.z())};
+    }
+    keyed[g] = {key, g};
+  });
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::size_t> cell_start;
+  for (std::size_t k = 0; k < groups; ++k) {
+    if (k == 0 || keyed[k].first != keyed[k - 1].first) cell_start.push_back(k);
+  }
+  cell_start.push_back(groups);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell_start.size() - 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<Vec3> cell_points;
+    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      cell_points.clear();
+      for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
+        const std::size_t g = keyed[k].second;
+        cell_points.insert(cell_points.end(), points.begin() + static_cast<std::ptrdiff_t>(start[g]),
+                           points.begin() + static_cast<std::ptrdiff_t>(start[g + 1]));
+      }
+      if (cell_points.empty()) continue;
+      Ball ball(*this, cell_points, 0);
+      // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
+      auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
+        int t;
+        Vec3 b;
+        if (!ball.nearest(j, p, n, t, b)) return false;
+        const Patch& patch = (*patches_)[B.patch[ball.bounded(j)]];
+        return interpolate(patch.weight, patch.triangles[t], b) > 0.0;
+      };
+      for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
+        const std::size_t g = keyed[k].second;
+        // Each point tries the patch that covered the point before it first.
+        std::size_t last = ball.size();
+        for (std::size_t i = start[g]; i < start[g + 1]; ++i) {
+          bool covered = last < ball.size() && covers(last, points[i], normals[i]);
+          for (std::size_t j = 0; j < ball.size() && !covered; ++j) {
+            if (j == last || !covers(j, points[i], normals[i])) continue;
+            covered = true;
+            last = j;
+          }
+          if (!covered) bare(g, i);
+        }
+      }
+    }
+  });
+}
+
 bool PatchCoverage::nearest(const Vec3& p, const Vec3& n, double reach, PatchHit& hit) const {
   const Bounds& B = *bounds_;
   double best = reach * reach;
@@ -596,14 +674,28 @@ FaceSamples face_samples(const SurfaceIndex& surface, double spacing) {
 namespace {
 
 /// The surface points and normals of face f's samples.
-void sample_points(const SurfaceIndex& surface, const FaceSamples& samples, int f, std::vector<Vec3>& points,
-                   std::vector<Vec3>& normals) {
-  points.clear(), normals.clear();
-  for (std::size_t s = samples.start[f]; s < samples.start[f + 1]; ++s) {
-    const SurfacePoint p = surface.at(f, samples.bary[s]);
-    points.push_back(p.position);
-    normals.push_back(surface.normal_at(p));
-  }
+/// The samples of `faces` (the face order of FaceSamples), their points and
+/// normals in one list, face after face: face k's from start[k] on.
+struct SampleList {
+  std::vector<Vec3> points, normals;
+  std::vector<std::size_t> start;
+};
+SampleList sample_points(const SurfaceIndex& surface, const FaceSamples& samples, const std::vector<int>& faces) {
+  SampleList out;
+  out.start.assign(faces.size() + 1, 0);
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    out.start[k + 1] = out.start[k] + (samples.start[faces[k] + 1] - samples.start[faces[k]]);
+  out.points.resize(out.start.back());
+  out.normals.resize(out.start.back());
+  parallel_each(faces.size(), [&](std::size_t k) {
+    const int f = faces[k];
+    for (std::size_t s = samples.start[f], i = out.start[k]; s < samples.start[f + 1]; ++s, ++i) {
+      const SurfacePoint p = surface.at(f, samples.bary[s]);
+      out.points[i] = p.position;
+      out.normals[i] = surface.normal_at(p);
+    }
+  });
+  return out;
 }
 
 }  // namespace
@@ -618,14 +710,10 @@ BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, co
   }
   // Per tested face, its first bare sample (−1: none).
   std::vector<std::ptrdiff_t> first(faces->size(), -1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces->size()), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<Vec3> points, normals;
-    for (std::size_t k = r.begin(); k != r.end(); ++k) {
-      const int f = (*faces)[k];
-      sample_points(surface, samples, f, points, normals);
-      const std::ptrdiff_t bare = coverage.first_uncovered(points, normals);
-      if (bare >= 0) first[k] = static_cast<std::ptrdiff_t>(samples.start[f]) + bare;
-    }
+  const SampleList list = sample_points(surface, samples, *faces);
+  coverage.uncovered_each(list.points, list.normals, list.start, [&](std::size_t k, std::size_t i) {
+    if (first[k] < 0)
+      first[k] = static_cast<std::ptrdiff_t>(samples.start[(*faces)[k]] + (i - list.start[k]));
   });
   BareFaces out;
   for (std::size_t k = 0; k < faces->size(); ++k) {
@@ -643,16 +731,11 @@ BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, co
 double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage& coverage, double spacing) {
   const FaceSamples samples = face_samples(surface, spacing);
   const std::size_t nf = surface.mesh().triangles.size();
+  std::vector<int> all(nf);
+  std::iota(all.begin(), all.end(), 0);
   std::vector<int> bare(nf, 0);  // per face: bare samples
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<Vec3> points, normals;
-    for (std::size_t f = r.begin(); f != r.end(); ++f) {
-      sample_points(surface, samples, static_cast<int>(f), points, normals);
-      for (std::ptrdiff_t i = coverage.first_uncovered(points, normals); i >= 0;
-           i = coverage.first_uncovered(points, normals, static_cast<std::size_t>(i) + 1))
-        ++bare[f];
-    }
-  });
+  const SampleList list = sample_points(surface, samples, all);
+  coverage.uncovered_each(list.points, list.normals, list.start, [&](std::size_t f, std::size_t) { ++bare[f]; });
   double total = 0.0, uncovered = 0.0;  // summed in face order: deterministic
   for (std::size_t f = 0; f < nf; ++f) {
     const double area = surface.face_areas()[f];
@@ -668,31 +751,21 @@ namespace fluidtex {
 
 std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage) {
   std::vector<char> bare(samples.size(), 0);
-  // The samples of one face at once (first_uncovered finds their candidate
-  // patches and triangles once), faces in parallel.
+  // The samples of one face as a group (uncovered_each finds the candidate
+  // patches and triangles of nearby faces once).
   std::vector<std::size_t> order(samples.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return samples[a].point.face < samples[b].point.face; });
   std::vector<std::size_t> group_start;
+  std::vector<Vec3> points(order.size()), normals(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) {
     if (k == 0 || samples[order[k]].point.face != samples[order[k - 1]].point.face) group_start.push_back(k);
+    points[k] = samples[order[k]].point.position;
+    normals[k] = samples[order[k]].normal;
   }
   group_start.push_back(order.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group_start.size() - 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::vector<Vec3> points, normals;
-                      for (std::size_t g = r.begin(); g != r.end(); ++g) {
-                        points.clear(), normals.clear();
-                        for (std::size_t k = group_start[g]; k < group_start[g + 1]; ++k) {
-                          points.push_back(samples[order[k]].point.position);
-                          normals.push_back(samples[order[k]].normal);
-                        }
-                        for (std::ptrdiff_t i = coverage.first_uncovered(points, normals); i >= 0;
-                             i = coverage.first_uncovered(points, normals, static_cast<std::size_t>(i) + 1))
-                          bare[order[group_start[g] + static_cast<std::size_t>(i)]] = 1;
-                      }
-                    });
+  coverage.uncovered_each(points, normals, group_start, [&](std::size_t, std::size_t k) { bare[order[k]] = 1; });
   return bare;
 }
 

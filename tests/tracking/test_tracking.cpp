@@ -733,6 +733,25 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   ASSERT_EQ(uncovered.size(), samples.size());
   for (std::size_t k = 0; k < samples.size(); ++k)
     ASSERT_EQ(uncovered[k] != 0, !coverage.covers(samples[k].point.position, samples[k].normal)) << "sample " << k;
+  // Every face's samples at once: each bare face with its first bare sample.
+  const FaceSamples fs = face_samples(surface, 0.3 * t.settings().method.d());
+  const BareFaces found_bare = bare_faces(surface, fs, coverage);
+  std::size_t next = 0;
+  for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {
+    std::ptrdiff_t first = -1;
+    for (std::size_t k = fs.start[f]; k < fs.start[f + 1] && first < 0; ++k) {
+      const SurfacePoint sp = surface.at(static_cast<int>(f), fs.bary[k]);
+      if (!coverage.covers(sp.position, surface.normal_at(sp))) first = static_cast<std::ptrdiff_t>(k);
+    }
+    if (first < 0) continue;
+    ASSERT_LT(next, found_bare.face.size()) << "face " << f;
+    ASSERT_EQ(found_bare.face[next], static_cast<int>(f));
+    ASSERT_EQ(found_bare.point[next].point.position,
+              surface.at(static_cast<int>(f), fs.bary[static_cast<std::size_t>(first)]).position)
+        << "face " << f;
+    ++next;
+  }
+  ASSERT_EQ(next, found_bare.face.size());
   // Groups spread over many faces, as a tile's texels over several charts.
   for (std::size_t first = 0; first < all_points.size(); first += 97) {
     const std::size_t last = std::min(all_points.size(), first + 97);

@@ -193,6 +193,15 @@ class PatchCoverage {
   /// safe.
   void locate_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                    const std::function<void(std::size_t, std::vector<PatchHit>&)>& found) const;
+  /// covers() for groups of points (group g: points[start[g] .. start[g + 1]),
+  /// e.g. the samples of one face): `bare(g, i)` for each point i that no
+  /// patch covers, in order within a group. Groups whose centroids share a
+  /// cell about a patch triangle wide are tested together, their candidate
+  /// patches and triangles found once. Thread safe; `bare` is called from
+  /// several threads at once, for different groups.
+  void uncovered_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                      const std::vector<std::size_t>& start,
+                      const std::function<void(std::size_t, std::size_t)>& bare) const;
   /// The nearest point of any patch triangle facing `n` within `reach` of
   /// `p` (in-plane distance too, unlike locate()); false when there is none.
   /// Thread safe.
