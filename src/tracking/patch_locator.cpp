@@ -389,18 +389,19 @@ bool PatchCoverage::covers(const Vec3& p, const Vec3& n) const {
 }
 
 /// The patches whose sphere reaches the ball (c, r) around a set of query
-/// points close together (one face's samples, one tile's texels), nearest
-/// first, and per patch, listed when it is first tried, its triangles whose
-/// sphere reaches the ball with their projections: found once for all the
-/// points instead of once per point.
+/// points close together (the samples of nearby faces, one tile's texels),
+/// nearest first, and per patch, listed when it is first tried, its
+/// triangles whose sphere reaches the ball with their projections: found
+/// once for all the points instead of once per point.
 class PatchCoverage::Ball {
  public:
-  Ball(const PatchCoverage& coverage, const std::vector<Vec3>& points, std::size_t from) : coverage_(&coverage) {
+  /// The ball around `points` (at least one).
+  Ball(const PatchCoverage& coverage, const std::vector<Vec3>& points) : coverage_(&coverage) {
     c_ = Vec3::Zero();
-    for (std::size_t i = from; i < points.size(); ++i) c_ += points[i];
-    c_ /= static_cast<double>(points.size() - from);
+    for (const Vec3& p : points) c_ += p;
+    c_ /= static_cast<double>(points.size());
     r_ = 0.0;
-    for (std::size_t i = from; i < points.size(); ++i) r_ = std::max(r_, (points[i] - c_).norm());
+    for (const Vec3& p : points) r_ = std::max(r_, (p - c_).norm());
     candidates_ = coverage.near(c_, r_);
     subsets_.resize(candidates_.size());
   }
@@ -456,35 +457,6 @@ class PatchCoverage::Ball {
   std::vector<Subset> subsets_;
 };
 
-std::ptrdiff_t PatchCoverage::first_uncovered(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                                              std::size_t from) const {
-  const Bounds& B = *bounds_;
-  if (from >= points.size()) return -1;
-  if (B.patch.empty()) return static_cast<std::ptrdiff_t>(from);
-  Ball ball(*this, points, from);
-  // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
-  auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
-    int t;
-    Vec3 bary;
-    if (!ball.nearest(j, p, n, t, bary)) return false;
-    const Patch& patch = (*patches_)[B.patch[ball.bounded(j)]];
-    return interpolate(patch.weight, patch.triangles[t], bary) > 0.0;
-  };
-  // Each point tries the patch that covered the point before it first.
-  std::size_t last = ball.size();
-  for (std::size_t i = from; i < points.size(); ++i) {
-    const Vec3& p = points[i];
-    bool covered = last < ball.size() && covers(last, p, normals[i]);
-    for (std::size_t j = 0; j < ball.size() && !covered; ++j) {
-      if (j == last || !covers(j, p, normals[i])) continue;
-      covered = true;
-      last = j;
-    }
-    if (!covered) return static_cast<std::ptrdiff_t>(i);
-  }
-  return -1;
-}
-
 void PatchCoverage::locate_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                                 const std::function<void(std::size_t, std::vector<PatchHit>&)>& found) const {
   const Bounds& B = *bounds_;
@@ -494,7 +466,7 @@ void PatchCoverage::locate_each(const std::vector<Vec3>& points, const std::vect
     return;
   }
   if (points.empty()) return;
-  Ball ball(*this, points, 0);
+  Ball ball(*this, points);
   for (std::size_t i = 0; i < points.size(); ++i) {
     hits.clear();
     for (std::size_t j = 0; j < ball.size(); ++j) {
@@ -555,7 +527,7 @@ void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::v
                            points.begin() + static_cast<std::ptrdiff_t>(start[g + 1]));
       }
       if (cell_points.empty()) continue;
-      Ball ball(*this, cell_points, 0);
+      Ball ball(*this, cell_points);
       // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
       auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
         int t;

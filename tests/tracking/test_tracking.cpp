@@ -707,13 +707,16 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
       points.push_back(s.position);
       normals.push_back(n);
     }
-    // One face's points at once: the first bare one, as covers() one by one.
-    for (std::size_t from = 0; from <= points.size(); ++from) {
-      std::ptrdiff_t expected = -1;
-      for (std::size_t i = from; i < points.size() && expected < 0; ++i)
-        if (!coverage.covers(points[i], normals[i])) expected = static_cast<std::ptrdiff_t>(i);
-      ASSERT_EQ(coverage.first_uncovered(points, normals, from), expected) << "face " << f << " from " << from;
-    }
+    // One face's points as a group: the bare ones, as covers() one by one.
+    std::vector<std::size_t> reported;
+    coverage.uncovered_each(points, normals, {0, points.size()}, [&](std::size_t g, std::size_t i) {
+      EXPECT_EQ(g, 0u);
+      reported.push_back(i);
+    });
+    std::vector<std::size_t> expected_bare;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (!coverage.covers(points[i], normals[i])) expected_bare.push_back(i);
+    ASSERT_EQ(reported, expected_bare) << "face " << f;
     locate_each_agrees(points, normals);
     all_points.insert(all_points.end(), points.begin(), points.end());
     all_normals.insert(all_normals.end(), normals.begin(), normals.end());
@@ -763,7 +766,10 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   // With no patch nothing is covered.
   const std::vector<Patch> none;
   EXPECT_FALSE(PatchCoverage(none, tol).covers(Vec3::Zero(), Vec3::UnitZ()));
-  EXPECT_EQ(PatchCoverage(none, tol).first_uncovered({Vec3::Zero()}, {Vec3::UnitZ()}), 0);
+  int bare_calls = 0;
+  PatchCoverage(none, tol).uncovered_each({Vec3::Zero()}, {Vec3::UnitZ()}, {0, 1},
+                                          [&](std::size_t, std::size_t) { ++bare_calls; });
+  EXPECT_EQ(bare_calls, 1);
   int empty_calls = 0;
   PatchCoverage(none, tol).locate_each({Vec3::Zero(), Vec3::UnitX()}, {Vec3::UnitZ(), Vec3::UnitZ()},
                                        [&](std::size_t, std::vector<PatchHit>& each) {

@@ -177,12 +177,6 @@ class PatchCoverage {
   PatchCoverage(const std::vector<Patch>& patches, double tolerance, const std::vector<char>* include = nullptr);
   ~PatchCoverage();
   bool covers(const Vec3& p, const Vec3& n) const;  ///< thread safe
-  /// The first of `points` (unit normals `normals`), from index `from` on,
-  /// that no patch covers, −1 when every one is covered: covers() of each in
-  /// turn, for points close together (one face's samples), whose candidate
-  /// patches are found once. Thread safe.
-  std::ptrdiff_t first_uncovered(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                                 std::size_t from = 0) const;
   /// The same hits as PatchLocator::locate over the same patches and
   /// tolerance (every covering patch, its nearest triangle, in patch order),
   /// for a few points: no tree over the patch triangles is built. Thread safe.
