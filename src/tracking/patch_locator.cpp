@@ -496,18 +496,20 @@ void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::v
     }
     return;
   }
-  // The groups by the cell of their centroid (a cell per group where the
-  // size or a centroid is not usable), groups in order within a cell.
-  using Key = std::array<std::int64_t, 3>;
+  // The groups by the cell of their centroid, groups in order within a
+  // cell; a group whose centroid has no usable cell (or all groups, without
+  // a cell size) is a cell of its own. Key: (own cell?, cell or group).
+  using Key = std::array<std::int64_t, 4>;
   std::vector<std::pair<Key, std::size_t>> keyed(groups);
   const bool by_cell = B.cell > 0.0 && std::isfinite(B.cell);
-  tbb::parallel_for(std::size_t(0), groups, [&](std::size_t g) {
-    Key key{static_cast<std::int64_t>(g), 0, 0};
+  parallel_each(groups, [&](std::size_t g) {
+    Key key{1, static_cast<std::int64_t>(g), 0, 0};
     if (by_cell && start[g + 1] > start[g]) {
       Vec3 c = Vec3::Zero();
       for (std::size_t i = start[g]; i < start[g + 1]; ++i) c += points[i];
       const Vec3 q = (c / static_cast<double>(start[g + 1] - start[g]) / B.cell).array().floor();
-      if (q.allFinite() && q.cwiseAbs().maxCoeff() < 0x1p52) key = {static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()), static_cast<std::int64_t>(q.z())};
+      if (q.allFinite() && q.cwiseAbs().maxCoeff() < 0x1p52)
+        key = {0, static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()), static_cast<std::int64_t>(q.z())};
     }
     keyed[g] = {key, g};
   });
@@ -517,41 +519,40 @@ void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::v
     if (k == 0 || keyed[k].first != keyed[k - 1].first) cell_start.push_back(k);
   }
   cell_start.push_back(groups);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell_start.size() - 1), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<Vec3> cell_points;
-    for (std::size_t c = r.begin(); c != r.end(); ++c) {
-      cell_points.clear();
-      for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
-        const std::size_t g = keyed[k].second;
-        cell_points.insert(cell_points.end(), points.begin() + static_cast<std::ptrdiff_t>(start[g]),
-                           points.begin() + static_cast<std::ptrdiff_t>(start[g + 1]));
-      }
-      if (cell_points.empty()) continue;
-      Ball ball(*this, cell_points);
-      // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
-      auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
-        int t;
-        Vec3 b;
-        if (!ball.nearest(j, p, n, t, b)) return false;
-        const Patch& patch = (*patches_)[B.patch[ball.bounded(j)]];
-        return interpolate(patch.weight, patch.triangles[t], b) > 0.0;
-      };
-      for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
-        const std::size_t g = keyed[k].second;
-        // Each point tries the patch that covered the point before it first.
-        std::size_t last = ball.size();
-        for (std::size_t i = start[g]; i < start[g + 1]; ++i) {
-          bool covered = last < ball.size() && covers(last, points[i], normals[i]);
-          for (std::size_t j = 0; j < ball.size() && !covered; ++j) {
-            if (j == last || !covers(j, points[i], normals[i])) continue;
-            covered = true;
-            last = j;
-          }
-          if (!covered) bare(g, i);
+  auto test_cell = [&](std::size_t c) {
+    thread_local std::vector<Vec3> cell_points;  // kept per thread, as near()'s lists
+    cell_points.clear();
+    for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
+      const std::size_t g = keyed[k].second;
+      cell_points.insert(cell_points.end(), points.begin() + static_cast<std::ptrdiff_t>(start[g]),
+                         points.begin() + static_cast<std::ptrdiff_t>(start[g + 1]));
+    }
+    if (cell_points.empty()) return;
+    Ball ball(*this, cell_points);
+    // As covers_with(): the patch's nearest triangle (lowest index on a tie) decides.
+    auto covers = [&](std::size_t j, const Vec3& p, const Vec3& n) {
+      int t;
+      Vec3 b;
+      if (!ball.nearest(j, p, n, t, b)) return false;
+      const Patch& patch = (*patches_)[B.patch[ball.bounded(j)]];
+      return interpolate(patch.weight, patch.triangles[t], b) > 0.0;
+    };
+    for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
+      const std::size_t g = keyed[k].second;
+      // Each point tries the patch that covered the point before it first.
+      std::size_t last = ball.size();
+      for (std::size_t i = start[g]; i < start[g + 1]; ++i) {
+        bool covered = last < ball.size() && covers(last, points[i], normals[i]);
+        for (std::size_t j = 0; j < ball.size() && !covered; ++j) {
+          if (j == last || !covers(j, points[i], normals[i])) continue;
+          covered = true;
+          last = j;
         }
+        if (!covered) bare(g, i);
       }
     }
-  });
+  };
+  parallel_each(cell_start.size() - 1, test_cell);
 }
 
 bool PatchCoverage::nearest(const Vec3& p, const Vec3& n, double reach, PatchHit& hit) const {
@@ -645,7 +646,6 @@ FaceSamples face_samples(const SurfaceIndex& surface, double spacing) {
 
 namespace {
 
-/// The surface points and normals of face f's samples.
 /// The samples of `faces` (the face order of FaceSamples), their points and
 /// normals in one list, face after face: face k's from start[k] on.
 struct SampleList {
@@ -684,8 +684,7 @@ BareFaces bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, co
   std::vector<std::ptrdiff_t> first(faces->size(), -1);
   const SampleList list = sample_points(surface, samples, *faces);
   coverage.uncovered_each(list.points, list.normals, list.start, [&](std::size_t k, std::size_t i) {
-    if (first[k] < 0)
-      first[k] = static_cast<std::ptrdiff_t>(samples.start[(*faces)[k]] + (i - list.start[k]));
+    if (first[k] < 0) first[k] = static_cast<std::ptrdiff_t>(samples.start[(*faces)[k]] + (i - list.start[k]));
   });
   BareFaces out;
   for (std::size_t k = 0; k < faces->size(); ++k) {
@@ -722,22 +721,17 @@ double uncovered_area_fraction(const SurfaceIndex& surface, const PatchCoverage&
 namespace fluidtex {
 
 std::vector<char> uncovered_samples(const std::vector<SurfaceSample>& samples, const PatchCoverage& coverage) {
-  std::vector<char> bare(samples.size(), 0);
-  // The samples of one face as a group (uncovered_each finds the candidate
-  // patches and triangles of nearby faces once).
-  std::vector<std::size_t> order(samples.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return samples[a].point.face < samples[b].point.face; });
-  std::vector<std::size_t> group_start;
-  std::vector<Vec3> points(order.size()), normals(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (k == 0 || samples[order[k]].point.face != samples[order[k - 1]].point.face) group_start.push_back(k);
-    points[k] = samples[order[k]].point.position;
-    normals[k] = samples[order[k]].normal;
+  // Each sample a group of its own: uncovered_each tests those of a cell
+  // together.
+  std::vector<Vec3> points(samples.size()), normals(samples.size());
+  std::vector<std::size_t> start(samples.size() + 1);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    points[k] = samples[k].point.position;
+    normals[k] = samples[k].normal;
+    start[k + 1] = k + 1;
   }
-  group_start.push_back(order.size());
-  coverage.uncovered_each(points, normals, group_start, [&](std::size_t, std::size_t k) { bare[order[k]] = 1; });
+  std::vector<char> bare(samples.size(), 0);
+  coverage.uncovered_each(points, normals, start, [&](std::size_t k, std::size_t) { bare[k] = 1; });
   return bare;
 }
 
