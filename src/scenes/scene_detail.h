@@ -26,9 +26,6 @@ using DistanceField = std::function<double(const Vec3&)>;
 /// (closed, outward-oriented triangles). Velocities are left zero.
 FrameMesh mesh_distance_field(const DistanceField& field, const Vec3& lo, const Vec3& hi, double voxel);
 
-/// Signed distance to the box centre ± half with edges rounded by `round`.
-double rounded_box_distance(const Vec3& p, const Vec3& centre, const Vec3& half, double round);
-
 /// The pool of the 3D scenes: the box [-1,1]² × [-0.5, top] (top 0 when
 /// still) with its edges rounded by 0.08, a closed surface.
 struct Pool {

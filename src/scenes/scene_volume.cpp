@@ -12,17 +12,14 @@ namespace fluidtex::detail {
 
 double volume_voxel_size(const SceneOptions& options) { return 2.2 / options.resolution; }
 
-double rounded_box_distance(const Vec3& p, const Vec3& centre, const Vec3& half, double round) {
+double Pool::distance(const Vec3& p, double top) const {
+  // The rounded box: the distance to the box shrunk by `round`, less `round`.
+  const Vec3 centre(0.0, 0.0, 0.5 * (top + bottom));
+  const Vec3 half(half_width, half_width, 0.5 * (top - bottom));
   const Vec3 q = (p - centre).cwiseAbs() - (half - Vec3::Constant(round));
   const double outside = q.cwiseMax(0.0).norm();
   const double inside = std::min(q.maxCoeff(), 0.0);
   return outside + inside - round;
-}
-
-double Pool::distance(const Vec3& p, double top) const {
-  const Vec3 centre(0.0, 0.0, 0.5 * (top + bottom));
-  const Vec3 half(half_width, half_width, 0.5 * (top - bottom));
-  return rounded_box_distance(p, centre, half, round);
 }
 
 double smooth_union(double a, double b, double k, double* mix) {
