@@ -401,14 +401,14 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview->add_option("--height", args->options.render.height,
                       "Image height of the perspective camera (default: width * 3/4; orthographic views "
                       "follow the framing)");
-  preview->add_option("--mesh", args->options.mesh_pattern, "UV mesh pattern (default: RUN/mesh.####.obj)");
-  preview->add_option("--atlas", args->options.atlas_pattern, "Atlas pattern (default: RUN/atlas.####.exr)");
+  preview->add_option("--mesh", args->options.mesh_pattern, "UV mesh pattern, .obj or .ply (default: the run's)");
+  preview->add_option("--atlas", args->options.atlas_pattern, "Atlas pattern (default: the run's)");
   preview
       ->add_option("--overlay", args->overlays,
                    "Draw over the frames (comma list, any of): borders = patch boundary edges, one colour per "
                    "patch; states = disk centres by state: blue fading in, green active, red fading out "
                    "(too distorted), yellow fading out (too close); velocity = vertex velocity arrows. "
-                   "Needs -i (and RUN/state/ for borders and states)")
+                   "Reads the input RUN/job.toml records, or -i (and RUN/state/ for borders and states)")
       ->delimiter(',')
       ->check(CLI::IsMember({"borders", "states", "velocity"}))
       ->group("Overlays");
@@ -460,7 +460,7 @@ void add_eval(CLI::App& app, int& exit_code) {
       app.add_subcommand("eval",
                          "Measure a finished run: coverage, ghosting, patch life, distortion, texture-flow agreement, "
                          "contrast, spectrum (OUT/eval/metrics.jsonl, summary.json, report.html)");
-  cmd->add_option("-i,--input", args->eval.input.pattern, "The input sequence the run used")->required();
+  cmd->add_option("-i,--input", args->eval.input.pattern, "The input sequence (default: the run's, from job.toml)");
   cmd->add_option("-o,--output", args->eval.run_dir, "The run's output folder (with job.toml)")->required();
   cmd->add_option("--frames", args->eval.input.frames, "Frames to evaluate (default: the run's)");
   cmd->add_option("-e,--exemplar", args->eval.exemplar, "Exemplar (default: the run's, from job.toml)");
@@ -488,7 +488,7 @@ void add_eval(CLI::App& app, int& exit_code) {
     // Input settings as the run read the sequence; the pattern (and frames) given here.
     const std::string pattern = options.input.pattern, frames = options.input.frames;
     options.input = job.input;
-    options.input.pattern = pattern;
+    if (!pattern.empty()) options.input.pattern = pattern;
     if (!frames.empty()) options.input.frames = frames;
     options.render.view = parse_enum<View>(args->view, "view");
     options.render.width = 384;

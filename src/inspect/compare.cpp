@@ -29,9 +29,6 @@ RunFiles run_files(const std::string& dir) {
     throw InputError(job_record_path(dir), "a --track-only job has no atlases to compare");
   record.options.output.dir = dir;
   RunFiles files{record.frames, record.options.output.atlas(), record.options.output.mesh()};
-  if (std::filesystem::path(files.mesh).extension() != ".obj") {
-    throw InputError(files.mesh, "compare reads the runs' UV meshes as OBJ (run with the default --mesh)");
-  }
   return files;
 }
 

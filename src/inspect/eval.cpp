@@ -797,16 +797,13 @@ TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string
     throw InputError(atlas_path, std::to_string(atlas.channels) + " channels (a fluidtex atlas has at most " +
                                      std::to_string(kMaxLookupChannels) + ")");
   }
-  return TexturedFrame(read_uv_mesh_obj(mesh_path), std::move(atlas));
+  return TexturedFrame(read_uv_mesh(mesh_path), std::move(atlas));
 }
 
 EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
   JobOptions job = job_in;
   job.output.dir = options.run_dir;
   const std::string atlas_pattern = job.output.atlas(), mesh_pattern = job.output.mesh();
-  if (std::filesystem::path(mesh_pattern).extension() != ".obj") {
-    throw InputError(mesh_pattern, "eval reads the run's UV meshes as OBJ (run with the default --mesh)");
-  }
   // The frames on disk between two measured ones (a stepped run's skipped
   // frames, followed or not) carry the liquid from one to the next.
   InputOptions input = options.input;

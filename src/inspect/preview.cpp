@@ -1,6 +1,7 @@
 #include "fluidtex/inspect/preview.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -8,6 +9,8 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/job/job_options.h"
+#include "fluidtex/job/job_record.h"
 #include "fluidtex/job/pipeline.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/error.h"
@@ -23,7 +26,7 @@ void PreviewOptions::validate() const {
   if (overlays() && input.pattern.empty()) {
     const char* first = borders ? "borders" : states ? "states" : "velocity";
     throw InputError("", std::string("--overlay ") + first +
-                             ": needs the run's input sequence (-i/--input PATTERN, as given to run)");
+                             ": needs the run's input sequence (-i/--input PATTERN, as given to run; RUN/job.toml records it)");
   }
 }
 
@@ -47,13 +50,24 @@ void draw_overlays(const PreviewOptions& options, const Sequence& sequence, int 
 
 }  // namespace
 
-PreviewSummary run_preview(const PreviewOptions& options) {
+PreviewSummary run_preview(const PreviewOptions& given) {
+  // The run's job.toml says where its files are and what it read; what is
+  // given here wins.
+  PreviewOptions options = given;
+  std::optional<JobOptions> job;
+  if (std::filesystem::exists(job_record_path(options.run_dir))) {
+    job = read_job_manifest(options.run_dir);
+    job->output.dir = options.run_dir;
+    if (options.input.pattern.empty()) options.input = job->input;
+  }
   options.validate();
-  const std::string mesh_pattern =
-      options.mesh_pattern.empty() ? options.run_dir + "/mesh.####.obj" : options.mesh_pattern;
+  const std::string mesh_pattern = !options.mesh_pattern.empty() ? options.mesh_pattern
+                                   : job                         ? job->output.mesh()
+                                                                 : options.run_dir + "/mesh.####.obj";
   const FramePattern meshes(mesh_pattern);
-  const FramePattern atlases(options.atlas_pattern.empty() ? options.run_dir + "/atlas.####.exr"
-                                                           : options.atlas_pattern);
+  const FramePattern atlases(!options.atlas_pattern.empty() ? options.atlas_pattern
+                             : job                          ? job->output.atlas()
+                                                            : options.run_dir + "/atlas.####.exr");
   const std::vector<int> frames = options.frames.empty() ? meshes.discover() : parse_frame_range(options.frames);
   if (frames.empty()) throw InputError(mesh_pattern, "no frame matches this pattern");
   // The overlays read the input as run did: every frame on disk (central
@@ -65,7 +79,7 @@ PreviewSummary run_preview(const PreviewOptions& options) {
   std::vector<std::string> labels;
   for (std::size_t j = 0; j < frames.size(); ++j) {
     const int f = frames[j];
-    RenderResult r = render(read_uv_mesh_obj(meshes.path(f)), read_image(atlases.path(f), kMaxAtlasPixels), options.render);
+    RenderResult r = render(read_uv_mesh(meshes.path(f)), read_image(atlases.path(f), kMaxAtlasPixels), options.render);
     if (sequence) draw_overlays(options, *sequence, f, r);
     if (!options.sheet_only) write_image(out.path(f), r.color);
     if (options.sheet > 0 && j % static_cast<std::size_t>(options.sheet) == 0) {

@@ -241,15 +241,6 @@ std::vector<Tri> triangles_from(const std::string& path, const FrameImporter& im
 
 // --- Formats ------------------------------------------------------------------------------
 
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw InputError(path, "cannot open file for reading");
-  std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) throw InputError(path, "read error");
-  return bytes;
-}
-
 FrameMesh read_ply(const std::string& path, const std::string& bytes, const ReadOptions& options,
                    std::size_t& short_faces) {
   const PlyHeader header = parse_ply_header(path, bytes);
@@ -379,7 +370,7 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
   if (ext == ".vdb") {
     mesh = read_vdb_frame(path, options.vdb, options.require_velocities);
   } else {
-    const std::string bytes = read_bytes(path);
+    const std::string bytes = read_file_bytes(path);
     mesh = ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
   }
   if (mesh.positions.empty()) throw InputError(path, std::string("empty mesh (no vertices") + kNoLiquidHint + ")");

@@ -1,4 +1,5 @@
-// PLY header checks for mesh_io.cpp (private to it): parse the header, decide
+// PLY header checks for the readers of io/ (private to them: mesh_io.cpp's
+// frames, uv_mesh_io.cpp's UV meshes): parse the header, decide
 // which properties hold positions and velocities, measure binary bodies, and
 // write the canonical header OpenMesh's PLYReader is given. OpenMesh parses
 // the header too, but reports nothing usable (it prints to omerr and returns

@@ -1,4 +1,4 @@
-// UV mesh writers and the OBJ reader (see uv_mesh_io.h).
+// UV mesh writers and readers (see uv_mesh_io.h).
 //
 // The writers are written by hand rather than through OpenMesh::IO: OpenMesh's halfedge
 // structure cannot hold non-manifold frames (it drops or duplicates faces
@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <utility>
@@ -24,10 +25,12 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
+#include "fluidtex/io/mesh_io.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/strings.h"
 #include "openmesh_reader.h"
+#include "ply_header.h"
 
 namespace fluidtex {
 
@@ -292,6 +295,112 @@ UVMesh read_uv_mesh_obj(const std::string& path) {
     }
   }
   return out;
+}
+
+namespace {
+
+/// One value of a binary little-endian PLY body, as a double.
+double le_value(const char* at, plyio::PlyType t) {
+  auto get = [&](auto v) {
+    std::memcpy(&v, at, sizeof v);  // x86 and ARM are little-endian, as the file
+    return static_cast<double>(v);
+  };
+  switch (t) {
+    case plyio::PlyType::Int8: return get(std::int8_t{});
+    case plyio::PlyType::UInt8: return get(std::uint8_t{});
+    case plyio::PlyType::Int16: return get(std::int16_t{});
+    case plyio::PlyType::UInt16: return get(std::uint16_t{});
+    case plyio::PlyType::Int32: return get(std::int32_t{});
+    case plyio::PlyType::UInt32: return get(std::uint32_t{});
+    case plyio::PlyType::Float32: return get(float{});
+    case plyio::PlyType::Float64: return get(double{});
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+UVMesh read_uv_mesh_ply(const std::string& path) {
+  static_assert(std::endian::native == std::endian::little, "le_value reads little-endian values in place");
+  const std::string bytes = read_file_bytes(path);
+  const plyio::PlyHeader h = plyio::parse_ply_header(path, bytes);
+  if (h.format != plyio::PlyFormat::BinaryLE)
+    throw InputError(path, "UV mesh PLY is not binary_little_endian (the form fluidtex writes)");
+  if (h.elements.size() != 2 || h.elements[0].name != "vertex" || h.elements[1].name != "face")
+    throw InputError(path, "UV mesh PLY must hold a vertex element and then a face element");
+  const plyio::PlyElement &ve = h.elements[0], &fe = h.elements[1];
+  std::vector<std::size_t> offset;
+  std::size_t stride = 0;
+  for (const plyio::PlyProperty& p : ve.properties) {
+    if (p.is_list) throw InputError(path, "UV mesh PLY has a list property '" + p.name + "' in its vertices");
+    offset.push_back(stride);
+    stride += static_cast<std::size_t>(plyio::type_size(p.type));
+  }
+  auto property = [&](const char* name) {
+    const int i = ve.find(name);
+    if (i < 0)
+      throw InputError(path, std::string("UV mesh PLY has no vertex property '") + name + "'" +
+                                 (name[1] == '\0' && (name[0] == 'u' || name[0] == 'v') ? " (no texture coordinates)"
+                                                                                        : ""));
+    return i;
+  };
+  const int x = property("x"), y = property("y"), z = property("z"), u = property("u"), v = property("v");
+  const bool has_normal = ve.find("nx") >= 0 && ve.find("ny") >= 0 && ve.find("nz") >= 0;
+  const bool has_velocity = ve.find("vx") >= 0 && ve.find("vy") >= 0 && ve.find("vz") >= 0;
+  if (fe.properties.size() != 1 || !fe.properties[0].is_list || plyio::is_float(fe.properties[0].type))
+    throw InputError(path, "UV mesh PLY faces must hold one integer list of vertex indices");
+  const plyio::PlyProperty& list = fe.properties[0];
+  const std::size_t count_size = static_cast<std::size_t>(plyio::type_size(list.count_type));
+  const std::size_t index_size = static_cast<std::size_t>(plyio::type_size(list.type));
+  auto truncated = [&] {
+    return InputError(path, "truncated binary body (the header promises " + std::to_string(ve.count) +
+                                " vertices and " + std::to_string(fe.count) + " faces)");
+  };
+
+  std::size_t at = h.body_offset;
+  if ((bytes.size() - at) / std::max<std::size_t>(stride, 1) < ve.count) throw truncated();
+  UVMesh out;
+  auto vec3 = [&](const char* r, int a, int b, int c) {
+    return Vec3(le_value(r + offset[a], ve.properties[a].type), le_value(r + offset[b], ve.properties[b].type),
+                le_value(r + offset[c], ve.properties[c].type));
+  };
+  for (std::size_t i = 0; i < ve.count; ++i, at += stride) {
+    const char* r = bytes.data() + at;
+    out.positions.push_back(vec3(r, x, y, z));
+    out.uvs.emplace_back(le_value(r + offset[u], ve.properties[u].type), le_value(r + offset[v], ve.properties[v].type));
+    if (has_normal) out.normals.push_back(vec3(r, ve.find("nx"), ve.find("ny"), ve.find("nz")));
+    if (has_velocity) out.velocities.push_back(vec3(r, ve.find("vx"), ve.find("vy"), ve.find("vz")));
+    if (!out.positions.back().allFinite() || !out.uvs.back().allFinite())
+      throw InputError(path, "vertex " + std::to_string(i) + " has a non-finite position or texture coordinate");
+  }
+  for (std::size_t f = 0; f < fe.count; ++f) {
+    if (bytes.size() - at < count_size) throw truncated();
+    const long long n = plyio::read_count(bytes, at, list.count_type, false);
+    at += count_size;
+    if (n < 3 || n > kMaxPolygonCorners)
+      throw InputError(path, "face " + std::to_string(f) + " has " + std::to_string(n) + " corners");
+    if ((bytes.size() - at) / index_size < static_cast<std::size_t>(n)) throw truncated();
+    std::vector<int> corner(static_cast<std::size_t>(n));
+    for (int& c : corner) {
+      const double index = le_value(bytes.data() + at, list.type);
+      at += index_size;
+      if (!(index >= 0.0 && index < static_cast<double>(ve.count)))
+        throw InputError(path, "face " + std::to_string(f) + " names vertex " + std::to_string(std::llround(index)) +
+                                   " of " + std::to_string(ve.count));
+      c = static_cast<int>(index);
+    }
+    for (std::size_t k = 1; k + 1 < corner.size(); ++k) out.triangles.push_back({corner[0], corner[k], corner[k + 1]});
+  }
+  out.uv_triangles = out.triangles;  // one uv per (split) vertex
+  return out;
+}
+
+UVMesh read_uv_mesh(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".obj") return read_uv_mesh_obj(path);
+  if (ext == ".ply") return read_uv_mesh_ply(path);
+  throw InputError(path,
+                   "unsupported UV mesh extension '" + fs::path(path).extension().string() + "' (use .obj or .ply)");
 }
 
 }  // namespace fluidtex

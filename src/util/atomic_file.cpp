@@ -154,4 +154,13 @@ void close_written(std::ofstream& out, const fs::path& target) {
                       (code != 0 ? std::generic_category().message(code) : std::string("the write failed")));
 }
 
+std::string read_file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw InputError(path, "cannot open file for reading");
+  std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) throw InputError(path, "read error");
+  return bytes;
+}
+
 }  // namespace fluidtex

@@ -220,9 +220,13 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
   ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --frames 2-3 --width 64", &out), 0) << out;
   EXPECT_TRUE(fs::exists(o / "preview" / "frame.0002.png"));
   EXPECT_TRUE(fs::exists(o / "preview" / "frame.0003.png"));
-  // Overlays need the input; with it, a perspective contact sheet of frames 1 and 3.
+  // Overlays read the input job.toml records; without a job.toml they need -i.
+  ASSERT_EQ(run_fluidtex("preview " + q(o.string()) + " --frames 3 --width 32 --overlay borders", &out), 0) << out;
+  fs::rename(o / "job.toml", dir.path() / "job.toml");
   EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --overlay borders", &out), 2);
   EXPECT_NE(out.find("-i/--input"), std::string::npos) << out;
+  fs::rename(dir.path() / "job.toml", o / "job.toml");
+  // A perspective contact sheet of frames 1 and 3, with -i given.
   EXPECT_EQ(run_fluidtex("preview " + q(o.string()) + " --camera 1,2,3", &out), 2);
   ASSERT_EQ(run_fluidtex("preview " + q(o.string()) +
                              " --width 40 --height 30 --camera 0,-3,2,0,0,0,35 "

@@ -24,6 +24,9 @@ class Compare : public ::testing::Test {
     ASSERT_EQ(
         test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " --gutter 9 -o " + dir_->file("repacked")), 0);
     ASSERT_EQ(test::run_fluidtex("run " + in + "-e " + dir_->file("other.png") + " -o " + dir_->file("other")), 0);
+    ASSERT_EQ(test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " -o " + dir_->file("ply") +
+                                 " --mesh " + dir_->file("ply/mesh.####.ply")),
+              0);
     ASSERT_EQ(
         test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " --frames 1-2 -o " + dir_->file("shorter")),
         0);
@@ -90,6 +93,26 @@ TEST_F(Compare, CommandExitsZeroOneOrTwo) {
   write_image((copy.path() / "run" / "atlas.0003.exr").string(), Image::blank(8, 8, 5));
   EXPECT_EQ(test::run_fluidtex("compare " + golden + " " + (copy.path() / "run").string(), &out), 2);
   EXPECT_NE(out.find("atlas.0003.exr: 5 channels"), std::string::npos) << out;
+}
+
+TEST_F(Compare, AndEvalAndPreviewReadPlyUvMeshesAsOnesOfObj) {
+  // The run with PLY UV meshes is the golden run's texture.
+  const Comparison same = compare("ply");
+  ASSERT_EQ(same.frames.size(), 3u);
+  for (const FrameComparison& f : same.frames) EXPECT_EQ(f.max, 0.0);
+  std::string out;
+  // preview finds the run's meshes through its job.toml, and renders what
+  // the OBJ run's preview renders.
+  for (const char* run : {"golden", "ply"})
+    ASSERT_EQ(test::run_fluidtex("preview " + dir_->file(run) + " --frames 2 --width 64", &out), 0) << out;
+  EXPECT_EQ(test::read_file(dir_->file("ply/preview/frame.0002.png")),
+            test::read_file(dir_->file("golden/preview/frame.0002.png")));
+  // eval reads the input job.toml records (no -i) and the PLY meshes.
+  ASSERT_EQ(test::run_fluidtex("eval -q -o " + dir_->file("ply") + " --samples 2000 --flow-width 0", &out), 0) << out;
+  ASSERT_EQ(test::run_fluidtex("eval -q -o " + dir_->file("golden") + " --samples 2000 --flow-width 0", &out), 0)
+      << out;
+  EXPECT_EQ(test::read_file(dir_->file("ply/eval/summary.json")),
+            test::read_file(dir_->file("golden/eval/summary.json")));
 }
 
 }  // namespace

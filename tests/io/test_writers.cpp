@@ -565,6 +565,83 @@ TEST(UvMeshWriterPly, RoundTripThroughOpenMesh) {
     }
 }
 
+/// Each corner of `a` and of `b` at the same place with the same uv (to
+/// float precision): the same textured surface, whatever the vertex split.
+void expect_same_corners(const UVMesh& a, const UVMesh& b) {
+  ASSERT_EQ(a.triangles.size(), b.triangles.size());
+  for (std::size_t f = 0; f < a.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a.positions[a.triangles[f][k]].cast<float>(), b.positions[b.triangles[f][k]].cast<float>()) << f;
+      EXPECT_EQ(a.uvs[a.uv_triangles[f][k]].cast<float>(), b.uvs[b.uv_triangles[f][k]].cast<float>()) << f;
+      if (!a.normals.empty() && !b.normals.empty())
+        EXPECT_EQ(a.normals[a.triangles[f][k]].cast<float>(), b.normals[b.triangles[f][k]].cast<float>()) << f;
+    }
+}
+
+TEST(UvMeshReader, ReadsThePlyAndTheObjTheWritersWrite) {
+  TempDir dir;
+  UVMesh m = seam_mesh();
+  for (std::size_t v = 0; v < m.positions.size(); ++v) m.velocities.emplace_back(0.5 * v, -1.0, 0.25);
+  write_uv_mesh(dir.file("m.ply"), m);
+  write_uv_mesh(dir.file("m.obj"), m);
+  const UVMesh ply = read_uv_mesh(dir.file("m.ply")), obj = read_uv_mesh(dir.file("m.obj"));
+  expect_same_corners(m, ply);
+  expect_same_corners(m, obj);
+  EXPECT_EQ(ply.positions.size(), 8u);  // split at the seam: one vertex per (vertex, uv)
+  ASSERT_EQ(ply.velocities.size(), ply.positions.size());
+  for (std::size_t f = 0; f < m.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(ply.velocities[ply.triangles[f][k]], m.velocities[m.triangles[f][k]].cast<float>().cast<double>());
+  // A non-manifold frame (three faces on an edge) passes through as written.
+  UVMesh fan;
+  fan.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1)};
+  fan.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  fan.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(0.5, 0.5), Vec2(1, 1)};
+  fan.uv_triangles = fan.triangles;
+  write_uv_mesh(dir.file("fan.ply"), fan);
+  expect_same_corners(fan, read_uv_mesh(dir.file("fan.ply")));
+}
+
+TEST(UvMeshReader, RefusesWhatIsNotAUvMeshInOneLine) {
+  TempDir dir;
+  write_uv_mesh(dir.file("m.ply"), seam_mesh());
+  const std::string good = read_file(dir.file("m.ply"));
+  auto refusal = [&](const std::string& name, const std::string& bytes) {
+    test::write_file(dir.path() / name, bytes);
+    try {
+      read_uv_mesh(dir.file(name));
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      EXPECT_NE(what.find(name), std::string::npos) << what;
+      return what;
+    }
+    ADD_FAILURE() << name << " was read";
+    return std::string();
+  };
+  EXPECT_NE(refusal("short.ply", good.substr(0, good.size() - 5)).find("truncated"), std::string::npos);
+  EXPECT_NE(refusal("body.ply", good.substr(0, good.find("end_header\n") + 20)).find("truncated"),
+            std::string::npos);
+  // An input frame (positions and velocities, no uv) is not a UV mesh.
+  const std::string frame =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float vx\nproperty float vy\nproperty float vz\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n" +
+      std::string(3 * 6 * 4, '\0') + std::string("\x03\0\0\0\0\x01\0\0\0\x02\0\0\0", 13);
+  EXPECT_NE(refusal("frame.ply", frame).find("no texture coordinates"), std::string::npos);
+  std::string far = good;
+  far[far.size() - 4] = '\x7f';  // the last corner's index, far past the vertices
+  EXPECT_NE(refusal("far.ply", far).find("names vertex"), std::string::npos);
+  std::string nan = good;
+  const std::size_t body = nan.find("end_header\n") + 11;
+  for (int i = 0; i < 4; ++i) nan[body + i] = "\x00\x00\xc0\x7f"[i];  // the first x: a quiet NaN
+  EXPECT_NE(refusal("nan.ply", nan).find("non-finite"), std::string::npos);
+  EXPECT_NE(refusal("ascii.ply", "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n").find("binary"),
+            std::string::npos);
+  EXPECT_NE(refusal("m.stl", good).find("use .obj or .ply"), std::string::npos);
+  EXPECT_THROW(read_uv_mesh(dir.file("missing.ply")), InputError);
+}
+
 TEST(UvMeshWriterPly, NonManifoldFramePassesThrough) {
   // Three triangles on one edge (non-manifold) and an isolated vertex.
   UVMesh m;

@@ -15,10 +15,11 @@ namespace fluidtex {
 struct PreviewOptions {
   std::string run_dir;        ///< the output folder of a fluidtex run
   std::string frames;         ///< --frames; empty = every UV mesh found
-  std::string mesh_pattern;   ///< --mesh; empty = RUN/mesh.####.obj
-  std::string atlas_pattern;  ///< --atlas; empty = RUN/atlas.####.exr
+  std::string mesh_pattern;   ///< --mesh; empty = the run's (RUN/job.toml), else RUN/mesh.####.obj
+  std::string atlas_pattern;  ///< --atlas; empty = the run's (RUN/job.toml), else RUN/atlas.####.exr
   RenderOptions render;
-  /// The run's input (-i, as given to run), needed by the overlays only.
+  /// The run's input, needed by the overlays only; an empty pattern takes
+  /// the input RUN/job.toml records (with its reading options).
   InputOptions input;
   bool borders = false;         ///< overlay: patch boundary edges, one colour per patch (needs RUN/state/)
   bool states = false;          ///< overlay: disk centres by state (needs RUN/state/)

@@ -1,6 +1,6 @@
 /// @file uv_mesh_io.h
 /// @brief The per-frame UV mesh: the frame's surface with atlas coordinates,
-/// written (OBJ, PLY) and read back (OBJ, for eval and preview).
+/// written (OBJ, PLY) and read back (for eval, compare and preview).
 /// Seams carry per-corner UVs: a vertex on a chart border has one uv per chart.
 ///
 /// Both writers pass the frame through unchanged (non-manifold and
@@ -64,5 +64,16 @@ void write_uv_mesh(const std::string& path, const UVMesh& mesh, const MaterialMa
 /// Reads a UV mesh written by write_uv_mesh_obj (v, vt, vn, f v/vt/vn) through
 /// OpenMesh; InputError when the file is missing or malformed.
 UVMesh read_uv_mesh_obj(const std::string& path);
+
+/// Reads a UV mesh written by write_uv_mesh_ply (binary little-endian, vertex
+/// properties x y z u v, optionally nx ny nz and vx vy vz, in any order and of
+/// any numeric type; faces one integer list). Its vertices are split at
+/// seams, so `uvs` is per vertex and `uv_triangles` equals `triangles`.
+/// InputError naming the file for anything else: another format, a missing
+/// property, a truncated body, an index out of range, a non-finite value.
+UVMesh read_uv_mesh_ply(const std::string& path);
+
+/// Picks the reader from the extension (.obj or .ply); InputError otherwise.
+UVMesh read_uv_mesh(const std::string& path);
 
 }  // namespace fluidtex

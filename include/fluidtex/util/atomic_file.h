@@ -51,4 +51,8 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir,
 /// a device would block or never end).
 void require_regular_file(const std::string& path, const std::string& what);
 
+/// The whole file at `path`; InputError("PATH: cannot open file for reading")
+/// or ("PATH: read error").
+std::string read_file_bytes(const std::string& path);
+
 }  // namespace fluidtex
