@@ -277,6 +277,14 @@ void add_synth(CLI::App& app, int& exit_code) {
       "fluidtex run's; any number of synth steps may texture different frames at once");
   cmd->add_option("-o,--output", args->request.dir, "The job's output folder (with job.toml and state/)")->required();
   cmd->add_option("--frames", args->request.frames, "Frames to texture, e.g. 7-12 (default: all of the job's)");
+  cmd->add_option("-i,--input", args->request.input,
+                  "Where this machine sees the job's input frames, when not at the pattern job.toml records "
+                  "(checked against each frame's state)");
+  cmd->add_option("--velocity-vdb", args->request.velocity_vdb,
+                  "Where this machine sees the job's --velocity-vdb frames, when not where job.toml records them");
+  cmd->add_option("-e,--exemplar", args->request.exemplar,
+                  "Where this machine sees the job's exemplar, when not where job.toml records it (checked by "
+                  "content)");
   add_threads_option(cmd, args->threads);
   cmd->add_flag("--prune-state", args->request.prune_state,
                 "Remove the textured frames' states once all are written (the job's last state stays, for "

@@ -20,11 +20,14 @@ namespace fs = std::filesystem;
 namespace {
 
 /// Options that do not change what a job writes (or where): a resumed run
-/// may give them differently. The exemplar is compared by content and the
-/// frames by their own rule.
+/// may give them differently. The exemplar is compared by content, the
+/// input by content too (the newest state is loaded against its frame's mesh
+/// read from the input given, whose fingerprint it holds: a cache mounted
+/// elsewhere continues the job, another cache is refused), and the frames
+/// by their own rule.
 bool outside_contract(const std::string& name) {
-  static const std::set<std::string> names = {"output",  "resume",      "force",  "keep-state",
-                                              "threads", "debug-views", "frames", "exemplar"};
+  static const std::set<std::string> names = {"output",      "resume", "force",    "keep-state", "threads",
+                                              "debug-views", "frames", "exemplar", "input",      "velocity-vdb"};
   return names.count(name) > 0;
 }
 

@@ -31,7 +31,8 @@ namespace {
 
 /// The job's options as synthesis runs them, once the record says the job
 /// can be synthesised here (InputError naming job.toml otherwise).
-JobOptions synthesis_job(const JobRecord& record, const std::string& dir) {
+JobOptions synthesis_job(const JobRecord& record, const SynthRequest& request) {
+  const std::string& dir = request.dir;
   const std::string path = job_record_path(dir);
   if (record.version.empty()) throw InputError(path, "written by a fluidtex without job records: track it again");
   if (record.version != version_line()) {
@@ -39,6 +40,9 @@ JobOptions synthesis_job(const JobRecord& record, const std::string& dir) {
                                ": synthesise with the build that tracked it, or track again");
   }
   JobOptions options = record.options;
+  if (!request.input.empty()) options.input.pattern = request.input;
+  if (!request.velocity_vdb.empty()) options.input.velocity_vdb = request.velocity_vdb;
+  if (!request.exemplar.empty()) options.exemplar = request.exemplar;
   if (options.method != TexturingMethod::Patches) {
     throw InputError(path, "--method " + std::string(to_string(options.method)) +
                                ": the job keeps no patch states to synthesise from (fluidtex run textures it)");
@@ -127,7 +131,7 @@ void remove_own_temporaries(const JobOptions& options, const std::vector<int>& f
 JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
   const auto start = Clock::now();
   const JobRecord record = read_job_record(request.dir);
-  JobOptions options = synthesis_job(record, request.dir);
+  JobOptions options = synthesis_job(record, request);
   options.output.provenance = settings_hash(record);
   const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
   const std::vector<int> todo = frames_to_synthesise(record, options, wanted, request, reporter);

@@ -158,8 +158,10 @@ TEST(Farm, ResumeRefusesEveryOptionThatChangesTheOutput) {
   job.version = version_line();
   job.frames = {1, 2, 3, 4};
   JobOptions probe = base;
-  const std::set<std::string> free = {"output",  "resume",      "force",  "keep-state",
-                                      "threads", "debug-views", "frames", "exemplar"};
+  // The input and the exemplar are compared by content (the newest state's
+  // mesh fingerprint, the exemplar's SHA-1), not by path.
+  const std::set<std::string> free = {"output",      "resume", "force",    "keep-state", "threads",
+                                      "debug-views", "frames", "exemplar", "input",      "velocity-vdb"};
   int checked = 0;
   const std::vector<OptionRef> table = option_table(probe);
   for (std::size_t i = 0; i < table.size(); ++i) {
@@ -259,6 +261,65 @@ TEST(Farm, ResumeAndSynthRefuseAnotherJobWithExit2AndOneLine) {
             0)
       << out;
   refused("synth -o " + q(dir.file("noex")), "the job has no exemplar");
+}
+
+TEST(Farm, ACacheMountedElsewhereIsFoundWhereAStepIsToldAndCheckedByContent) {
+  // The job is tracked with its input and exemplar in a/; on the render
+  // node they are in b/ (a/ does not exist there).
+  test::TempDir dir;
+  test::write_rotation_scene(dir.path() / "a", kFrames, 16);
+  test::write_rotation_scene(dir.path() / "other", kFrames, 17, "ex.png", 32, 9);  // another cache and exemplar
+  auto in = [&](const std::string& where) {
+    return " -i " + q(dir.file(where + "/rotation.####.ply")) + " -e " + q(dir.file(where + "/ex.png")) + " ";
+  };
+  const std::string settings = " --aov weight " + kSettings;
+  std::string out;
+  ASSERT_EQ(run_fluidtex("run -q" + in("a") + settings + "-o " + q(dir.file("full")), &out), 0) << out;
+  ASSERT_EQ(run_fluidtex("run -q --track-only" + in("a") + settings + "-o " + q(dir.file("job")), &out), 0) << out;
+  ASSERT_EQ(run_fluidtex("run -q --track-only --frames 1-3" + in("a") + settings + "-o " + q(dir.file("part")), &out),
+            0)
+      << out;
+  fs::rename(dir.path() / "a", dir.path() / "b");
+  auto refused = [&](const std::string& args, const std::string& named) {
+    SCOPED_TRACE(args);
+    std::string text;
+    EXPECT_EQ(run_fluidtex(args, &text), 2) << text;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+    EXPECT_NE(text.find(named), std::string::npos) << text;
+  };
+  // synth: where job.toml says, nothing is found; where it is told, the
+  // frames are one run's; another cache or exemplar there is refused.
+  refused("synth -o " + q(dir.file("job")), dir.file("a/ex.png"));
+  refused("synth -o " + q(dir.file("job")) + " -e " + q(dir.file("b/ex.png")), dir.file("a/rotation.0001.ply"));
+  refused("synth -o " + q(dir.file("job")) + in("other"), "the exemplar changed since the job was tracked");
+  refused("synth -o " + q(dir.file("job")) + " --frames 2 -i " + q(dir.file("other/rotation.####.ply")) + " -e " +
+              q(dir.file("b/ex.png")),
+          "does not match frame 2's mesh");
+  EXPECT_FALSE(fs::exists(dir.path() / "job" / "atlas.0002.exr"));
+  ASSERT_EQ(run_fluidtex("synth -q -o " + q(dir.file("job")) + in("b"), &out), 0) << out;
+  expect_same_files(dir.path() / "full", dir.path() / "job", frame_files());
+  // --resume continues from the cache where it is now, and records it there;
+  // another cache is refused at the newest state.
+  refused("run -q --track-only" + in("other") + settings + "--resume -o " + q(dir.file("part")),
+          "--exemplar: its content differs");
+  refused("run -q --track-only -i " + q(dir.file("other/rotation.####.ply")) + " -e " + q(dir.file("b/ex.png")) +
+              settings + "--resume -o " + q(dir.file("part")),
+          "does not match frame 3's mesh");
+  ASSERT_EQ(run_fluidtex("run -q --track-only" + in("b") + settings + "--resume -o " + q(dir.file("part")), &out), 0)
+      << out;
+  for (int f = 1; f <= kFrames; ++f) {
+    const std::string state = FramePattern("state/patches.####.bin").path(f);
+    EXPECT_TRUE(test::read_file(dir.path() / "full" / state) == test::read_file(dir.path() / "part" / state)) << f;
+  }
+  EXPECT_NE(test::read_file(dir.path() / "part" / "job.toml").find(dir.file("b/rotation.####.ply")),
+            std::string::npos);
+  // eval measures against the cache where it is told, and refuses another.
+  refused("eval -q -o " + q(dir.file("full")) + " --samples 2000 --flow-width 0", dir.file("a/"));
+  refused("eval -q -o " + q(dir.file("full")) + " -i " + q(dir.file("other/rotation.####.ply")) + " -e " +
+              q(dir.file("b/ex.png")) + " --samples 2000 --flow-width 0",
+          "does not match frame");
+  EXPECT_EQ(run_fluidtex("eval -q -o " + q(dir.file("full")) + in("b") + " --samples 2000 --flow-width 0", &out), 0)
+      << out;
 }
 
 TEST(Farm, ARunNeverLeavesAnotherJobsOutputsBehind) {

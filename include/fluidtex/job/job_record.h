@@ -54,8 +54,9 @@ std::string job_record_path(const std::string& run_dir);
 /// `run --resume` of `given` in a folder whose job is `job`: InputError
 /// naming job.toml and the first difference: the build, an option that
 /// changes the outputs (--threads, --debug-views, --keep-state and the
-/// console options do not; paths compare as absolute paths; the exemplar by
-/// content), or frames that do not continue the job's (one list must start
+/// console options do not; output paths compare as absolute paths; the
+/// exemplar by content; the input not at all here: the resumed run loads the
+/// newest state against its frame's mesh, whose fingerprint it holds), or frames that do not continue the job's (one list must start
 /// with the other: a resume may extend or shorten the range, not move its
 /// start or step).
 void check_resumable(const JobRecord& job, const JobRecord& given);

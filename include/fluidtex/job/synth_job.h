@@ -22,6 +22,13 @@ struct SynthRequest {
   std::string dir;           ///< -o: the job's output folder (job.toml, state/)
   std::string frames;        ///< --frames: some of the job's frames; empty = all of them
   bool prune_state = false;  ///< --prune-state: drop the states of the textured frames (not the job's last)
+  /// Where this machine sees the job's files when not where job.toml
+  /// records them (a cache or exemplar mounted elsewhere); empty = as
+  /// recorded. Checked by content as the recorded ones are: each state
+  /// against its frame's mesh fingerprint, the exemplar's SHA-1.
+  std::string input;         ///< -i: the input frame pattern
+  std::string velocity_vdb;  ///< --velocity-vdb: the velocity VDB pattern
+  std::string exemplar;      ///< -e: the exemplar
 };
 
 /// Where a synth of `frames` writes its per-frame stats:
@@ -31,9 +38,10 @@ std::string synth_stats_path(const std::string& dir, const std::vector<int>& fra
 /// Textures the requested frames of the job in `request.dir`. InputError
 /// (before any output) when the job cannot be synthesised as recorded: no or
 /// an unreadable job.toml, another build, a flow-map job, no exemplar, an
-/// exemplar whose content changed, frames outside the job, a frame without a
-/// state; a state from another input (mesh fingerprint) when its frame is
-/// read. With `prune_state`, the states go once every requested frame is
+/// exemplar whose content changed (wherever `request.exemplar` says it is),
+/// frames outside the job, a frame without a state; a state from another
+/// input (mesh fingerprint, wherever `request.input` says it is) when its
+/// frame is read. With `prune_state`, the states go once every requested frame is
 /// written, and a re-run skips frames whose state is gone but whose atlas
 /// and mesh are there (a killed prune).
 JobSummary synth_job(const SynthRequest& request, Reporter& reporter);
