@@ -33,9 +33,11 @@
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/tracker.h"
+#include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/memory.h"
 #include "fluidtex/util/version.h"
+#include "man_page.h"
 
 namespace fluidtex::cli {
 
@@ -584,6 +586,15 @@ int run_command_line(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", version_line());
     add_subcommands(app, exit_code);
+    // Hidden (no group): the build writes fluidtex(1) with it.
+    app.add_option_function<std::string>(
+           "--man-page",
+           [&app](const std::string& path) {
+             write_text_atomically(path, man_page(app, version_line()));
+             throw CLI::Success();
+           },
+           "Write the manual page to FILE")
+        ->group("");
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version

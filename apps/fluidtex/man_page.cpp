@@ -1,0 +1,92 @@
+#include "man_page.h"
+
+#include <sstream>
+
+namespace fluidtex::cli {
+
+namespace {
+
+/// Text as man(7) shows it literally: backslashes escaped, hyphens as \-
+/// (so that options copy as ASCII), and no line starting with a control
+/// character ('.' or ').
+std::string roff(const std::string& text) {
+  std::string out;
+  bool line_start = true;
+  for (char c : text) {
+    if (line_start && (c == '.' || c == '\'')) out += "\\&";
+    line_start = c == '\n';
+    if (c == '\\')
+      out += "\\e";
+    else if (c == '-')
+      out += "\\-";
+    else
+      out += c;
+  }
+  return out;
+}
+
+/// "\fB\-i\fR, \fB\-\-input\fR \fITEXT\fR" for an option, "\fIRUN\fR" for a
+/// positional argument.
+std::string option_heading(const CLI::Option& opt) {
+  if (opt.get_positional() && !opt.nonpositional()) return "\\fI" + roff(opt.get_name(true)) + "\\fR";
+  std::string names, all = opt.get_name(false, true);
+  std::stringstream split(all);
+  for (std::string name; std::getline(split, name, ',');) {
+    if (!names.empty()) names += ", ";
+    names += "\\fB" + roff(name) + "\\fR";
+  }
+  const std::string type = opt.get_type_name();
+  if (opt.get_type_size() != 0 && !type.empty()) names += " \\fI" + roff(type) + "\\fR";
+  return names;
+}
+
+void write_options(std::ostringstream& out, const CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_group().empty()) continue;
+    out << ".TP\n" << option_heading(*opt) << "\n" << roff(opt->get_description());
+    const std::string def = opt->get_default_str();
+    if (!def.empty() && opt->get_type_size() != 0) out << " (default: " << roff(def) << ")";
+    out << "\n";
+  }
+}
+
+}  // namespace
+
+std::string man_page(const CLI::App& app, const std::string& version) {
+  std::ostringstream out;
+  out << ".TH FLUIDTEX 1 \"\" \"" << roff(version) << "\" \"User Commands\"\n";
+  out << ".SH NAME\nfluidtex \\- temporally coherent texture on the free surface of a fluid simulation\n";
+  out << ".SH SYNOPSIS\n.B fluidtex\n\\fISUBCOMMAND\\fR [\\fIOPTIONS\\fR]\n";
+  for (const CLI::App* sub : app.get_subcommands({}))
+    out << ".br\n.B fluidtex " << roff(sub->get_name()) << "\n[\\fIOPTIONS\\fR]\n";
+  out << ".SH DESCRIPTION\n"
+      << roff(app.get_description()) << "\n.PP\n"
+      << roff("fluidtex reads a per-frame mesh sequence whose vertices carry velocities (PLY, OBJ, OpenVDB) and "
+              "writes, for every frame, a texture atlas and a UV mesh, the texture carried by deformable patches "
+              "that move with the liquid. \"fluidtex run\" is the main job; \"fluidtex SUBCOMMAND --help\" lists "
+              "the options of one subcommand, as COMMANDS below does.")
+      << "\n.SH OPTIONS\n";
+  write_options(out, app);
+  out << ".SH COMMANDS\n";
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    out << ".SS \"fluidtex " << roff(sub->get_name()) << "\"\n" << roff(sub->get_description()) << "\n";
+    write_options(out, *sub);
+  }
+  out << ".SH EXIT STATUS\n"
+      << ".TP\n.B 0\n" << roff("Done (compare: the runs show the same texture).") << "\n"
+      << ".TP\n.B 1\n" << roff("An internal error (compare: the runs differ).") << "\n"
+      << ".TP\n.B 2\n"
+      << roff("Bad input, a job that cannot be continued as recorded, or out of memory: one line on stderr names "
+              "the file and the problem, and no output is left half-written.")
+      << "\n.SH FILES\n"
+      << roff("OUT/job.toml (the job: every option, the build, the exemplar's SHA-1, the frames), "
+              "OUT/atlas.####.exr, OUT/mesh.####.obj, OUT/state/patches.####.bin, OUT/stats.jsonl.")
+      << "\n.SH SEE ALSO\n"
+      << roff("Under the installation prefix (/usr for the Debian package): the manual in share/doc/fluidtex "
+              "(README.md and docs/), the Slurm and Blender scripts in share/fluidtex/scripts, an example "
+              "sequence in share/fluidtex/examples.")
+      << "\n";
+  return out.str();
+}
+
+}  // namespace fluidtex::cli

@@ -1,0 +1,18 @@
+// The manual page, fluidtex(1), written from the command line's own option
+// tables: every subcommand with its description, every option with its
+// names, value type, default and help, as `--help` prints them.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace fluidtex::cli {
+
+/// fluidtex(1) in man(7) markup for `app` (with its subcommands added):
+/// NAME, SYNOPSIS, DESCRIPTION, one subsection per subcommand, EXIT STATUS,
+/// FILES, SEE ALSO. Options of an empty group (hidden from --help) are left
+/// out.
+std::string man_page(const CLI::App& app, const std::string& version);
+
+}  // namespace fluidtex::cli
