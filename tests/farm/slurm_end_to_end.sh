@@ -97,12 +97,16 @@ same_as_one() {
     done
   done
 }
-# A step Slurm requeued waits for its begin time; let it start at once.
+# A step Slurm requeued waits for its begin time (minutes); let it start
+# sooner, but not within the second of the requeue: the node refuses a
+# credential issued in the second it revoked the job's ("Job credential
+# revoked"), which Slurm's own delay avoids.
 start_now() {
   for _ in $(seq 100); do
     [[ $(squeue -h -j "$1" -o %T 2>/dev/null) == PENDING ]] && break
     sleep 0.1
   done
+  sleep 2
   scontrol update JobId="$1" StartTime=now
 }
 
