@@ -61,10 +61,11 @@ std::string man_page(const CLI::App& app, const std::string& version) {
     out << ".br\n.B fluidtex " << roff(sub->get_name()) << "\n[\\fIOPTIONS\\fR]\n";
   out << ".SH DESCRIPTION\n"
       << roff(app.get_description()) << "\n.PP\n"
-      << roff("fluidtex reads a per-frame mesh sequence whose vertices carry velocities (PLY, OBJ, OpenVDB) and "
-              "writes, for every frame, a texture atlas and a UV mesh, the texture carried by deformable patches "
-              "that move with the liquid. \"fluidtex run\" is the main job; \"fluidtex SUBCOMMAND --help\" lists "
-              "the options of one subcommand, as COMMANDS below does.")
+      << roff(
+             "fluidtex reads a per-frame mesh sequence whose vertices carry velocities (PLY, OBJ, OpenVDB) and "
+             "writes, for every frame, a texture atlas and a UV mesh, the texture carried by deformable patches "
+             "that move with the liquid. \"fluidtex run\" is the main job; \"fluidtex SUBCOMMAND --help\" lists "
+             "the options of one subcommand, as COMMANDS below does.")
       << "\n.SH OPTIONS\n";
   write_options(out, app);
   out << ".SH COMMANDS\n";
@@ -73,18 +74,23 @@ std::string man_page(const CLI::App& app, const std::string& version) {
     write_options(out, *sub);
   }
   out << ".SH EXIT STATUS\n"
-      << ".TP\n.B 0\n" << roff("Done (compare: the runs show the same texture).") << "\n"
-      << ".TP\n.B 1\n" << roff("An internal error (compare: the runs differ).") << "\n"
+      << ".TP\n.B 0\n"
+      << roff("Done (compare: the runs show the same texture).") << "\n"
+      << ".TP\n.B 1\n"
+      << roff("An internal error (compare: the runs differ).") << "\n"
       << ".TP\n.B 2\n"
-      << roff("Bad input, a job that cannot be continued as recorded, or out of memory: one line on stderr names "
-              "the file and the problem, and no output is left half-written.")
+      << roff(
+             "Bad input, a job that cannot be continued as recorded, or out of memory: one line on stderr names "
+             "the file and the problem, and no output is left half-written.")
       << "\n.SH FILES\n"
-      << roff("OUT/job.toml (the job: every option, the build, the exemplar's SHA-1, the frames), "
-              "OUT/atlas.####.exr, OUT/mesh.####.obj, OUT/state/patches.####.bin, OUT/stats.jsonl.")
+      << roff(
+             "OUT/job.toml (the job: every option, the build, the exemplar's SHA-1, the frames), "
+             "OUT/atlas.####.exr, OUT/mesh.####.obj, OUT/state/patches.####.bin, OUT/stats.jsonl.")
       << "\n.SH SEE ALSO\n"
-      << roff("Under the installation prefix (/usr for the Debian package): the manual in share/doc/fluidtex "
-              "(README.md and docs/), the Slurm and Blender scripts in share/fluidtex/scripts, an example "
-              "sequence in share/fluidtex/examples.")
+      << roff(
+             "Under the installation prefix (/usr for the Debian package): the manual in share/doc/fluidtex "
+             "(README.md and docs/), the Slurm and Blender scripts in share/fluidtex/scripts, an example "
+             "sequence in share/fluidtex/examples.")
       << "\n";
   return out.str();
 }

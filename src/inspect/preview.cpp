@@ -25,8 +25,9 @@ void PreviewOptions::validate() const {
   if (arrow_spacing < 1) throw InputError("", "--arrow-spacing must be at least 1");
   if (overlays() && input.pattern.empty()) {
     const char* first = borders ? "borders" : states ? "states" : "velocity";
-    throw InputError("", std::string("--overlay ") + first +
-                             ": needs the run's input sequence (-i/--input PATTERN, as given to run; RUN/job.toml records it)");
+    throw InputError(
+        "", std::string("--overlay ") + first +
+                ": needs the run's input sequence (-i/--input PATTERN, as given to run; RUN/job.toml records it)");
   }
 }
 

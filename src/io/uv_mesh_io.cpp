@@ -339,9 +339,9 @@ UVMesh read_uv_mesh_ply(const std::string& path) {
   auto property = [&](const char* name) {
     const int i = ve.find(name);
     if (i < 0)
-      throw InputError(path, std::string("UV mesh PLY has no vertex property '") + name + "'" +
-                                 (name[1] == '\0' && (name[0] == 'u' || name[0] == 'v') ? " (no texture coordinates)"
-                                                                                        : ""));
+      throw InputError(path,
+                       std::string("UV mesh PLY has no vertex property '") + name + "'" +
+                           (name[1] == '\0' && (name[0] == 'u' || name[0] == 'v') ? " (no texture coordinates)" : ""));
     return i;
   };
   const int x = property("x"), y = property("y"), z = property("z"), u = property("u"), v = property("v");
@@ -367,7 +367,8 @@ UVMesh read_uv_mesh_ply(const std::string& path) {
   for (std::size_t i = 0; i < ve.count; ++i, at += stride) {
     const char* r = bytes.data() + at;
     out.positions.push_back(vec3(r, x, y, z));
-    out.uvs.emplace_back(le_value(r + offset[u], ve.properties[u].type), le_value(r + offset[v], ve.properties[v].type));
+    out.uvs.emplace_back(le_value(r + offset[u], ve.properties[u].type),
+                         le_value(r + offset[v], ve.properties[v].type));
     if (has_normal) out.normals.push_back(vec3(r, ve.find("nx"), ve.find("ny"), ve.find("nz")));
     if (has_velocity) out.velocities.push_back(vec3(r, ve.find("vx"), ve.find("vy"), ve.find("vz")));
     if (!out.positions.back().allFinite() || !out.uvs.back().allFinite())

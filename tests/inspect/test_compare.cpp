@@ -24,8 +24,8 @@ class Compare : public ::testing::Test {
     ASSERT_EQ(
         test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " --gutter 9 -o " + dir_->file("repacked")), 0);
     ASSERT_EQ(test::run_fluidtex("run " + in + "-e " + dir_->file("other.png") + " -o " + dir_->file("other")), 0);
-    ASSERT_EQ(test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " -o " + dir_->file("ply") +
-                                 " --mesh " + dir_->file("ply/mesh.####.ply")),
+    ASSERT_EQ(test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " -o " + dir_->file("ply") + " --mesh " +
+                                 dir_->file("ply/mesh.####.ply")),
               0);
     ASSERT_EQ(
         test::run_fluidtex("run " + in + "-e " + dir_->file("ex.png") + " --frames 1-2 -o " + dir_->file("shorter")),

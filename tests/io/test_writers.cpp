@@ -620,8 +620,7 @@ TEST(UvMeshReader, RefusesWhatIsNotAUvMeshInOneLine) {
     return std::string();
   };
   EXPECT_NE(refusal("short.ply", good.substr(0, good.size() - 5)).find("truncated"), std::string::npos);
-  EXPECT_NE(refusal("body.ply", good.substr(0, good.find("end_header\n") + 20)).find("truncated"),
-            std::string::npos);
+  EXPECT_NE(refusal("body.ply", good.substr(0, good.find("end_header\n") + 20)).find("truncated"), std::string::npos);
   // An input frame (positions and velocities, no uv) is not a UV mesh.
   const std::string frame =
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"

@@ -311,8 +311,7 @@ TEST(Farm, ACacheMountedElsewhereIsFoundWhereAStepIsToldAndCheckedByContent) {
     const std::string state = FramePattern("state/patches.####.bin").path(f);
     EXPECT_TRUE(test::read_file(dir.path() / "full" / state) == test::read_file(dir.path() / "part" / state)) << f;
   }
-  EXPECT_NE(test::read_file(dir.path() / "part" / "job.toml").find(dir.file("b/rotation.####.ply")),
-            std::string::npos);
+  EXPECT_NE(test::read_file(dir.path() / "part" / "job.toml").find(dir.file("b/rotation.####.ply")), std::string::npos);
   // eval measures against the cache where it is told, and refuses another.
   refused("eval -q -o " + q(dir.file("full")) + " --samples 2000 --flow-width 0", dir.file("a/"));
   refused("eval -q -o " + q(dir.file("full")) + " -i " + q(dir.file("other/rotation.####.ply")) + " -e " +
