@@ -37,7 +37,7 @@
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/memory.h"
 #include "fluidtex/util/version.h"
-#include "man_page.h"
+#include "reference.h"
 
 namespace fluidtex::cli {
 
@@ -564,13 +564,21 @@ void print_error(const std::string& message, bool internal) {
 }
 
 void add_subcommands(CLI::App& app, int& exit_code) {
-  add_preview(app, exit_code);
-  add_eval(app, exit_code);
-  add_compare(app, exit_code);
+  // In the order a user needs them.
   add_run(app, exit_code);
   add_synth(app, exit_code);
   add_info(app, exit_code);
+  add_eval(app, exit_code);
+  add_compare(app, exit_code);
+  add_preview(app, exit_code);
   add_gen(app, exit_code);
+  app.footer(
+      "Examples:\n"
+      "  fluidtex info -i 'sim/surface.####.ply'                             what a sequence holds\n"
+      "  fluidtex run -i 'sim/surface.####.ply' -e exemplar.png -o out        texture every frame\n"
+      "  fluidtex eval -o out                                                measure it: out/eval/report.html\n"
+      "\n"
+      "fluidtex COMMAND --help lists a command's options; the manual: man fluidtex, and docs/ (README.md).");
 }
 
 int run_command_line(int argc, char** argv) {
@@ -594,6 +602,14 @@ int run_command_line(int argc, char** argv) {
              throw CLI::Success();
            },
            "Write the manual page to FILE")
+        ->group("");
+    app.add_option_function<std::string>(
+           "--command-reference",
+           [&app](const std::string& path) {
+             write_text_atomically(path, command_reference(app));
+             throw CLI::Success();
+           },
+           "Write docs/commands.md to FILE")
         ->group("");
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,4 +1,4 @@
-#include "man_page.h"
+#include "reference.h"
 
 #include <sstream>
 
@@ -92,6 +92,55 @@ std::string man_page(const CLI::App& app, const std::string& version) {
              "(README.md and docs/), the Slurm and Blender scripts in share/fluidtex/scripts, an example "
              "sequence in share/fluidtex/examples.")
       << "\n";
+  return out.str();
+}
+
+namespace {
+
+/// "`-i`, `--input` *TEXT*" for an option, "*RUN*" for a positional argument.
+std::string markdown_heading(const CLI::Option& opt) {
+  if (opt.get_positional() && !opt.nonpositional()) return "*" + opt.get_name(true) + "*";
+  std::string names, all = opt.get_name(false, true);
+  std::stringstream split(all);
+  for (std::string name; std::getline(split, name, ',');) {
+    if (!names.empty()) names += ", ";
+    names += "`" + name + "`";
+  }
+  const std::string type = opt.get_type_name();
+  if (opt.get_type_size() != 0 && !type.empty()) names += " *" + type + "*";
+  return names;
+}
+
+void markdown_options(std::ostringstream& out, const CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_group().empty()) continue;
+    std::string help = opt->get_description();
+    for (char& c : help)
+      if (c == '\n') c = ' ';
+    out << "- " << markdown_heading(*opt) << ": " << help;
+    const std::string def = opt->get_default_str();
+    if (!def.empty() && opt->get_type_size() != 0) out << " (default: `" << def << "`)";
+    out << "\n";
+  }
+}
+
+}  // namespace
+
+std::string command_reference(const CLI::App& app) {
+  std::ostringstream out;
+  out << "# Command reference\n\n"
+      << "Every command and option of `fluidtex`, as `fluidtex COMMAND --help` prints them. The build writes this "
+         "page from the option tables (`fluidtex --command-reference docs/commands.md`), and a test fails when "
+         "the page differs from what the build writes; `man fluidtex` is the same reference.\n\n";
+  for (const CLI::App* sub : app.get_subcommands({}))
+    out << "- [fluidtex " << sub->get_name() << "](#fluidtex-" << sub->get_name() << "): " << sub->get_description()
+        << "\n";
+  out << "\n## fluidtex\n\n";
+  markdown_options(out, app);
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    out << "\n## fluidtex " << sub->get_name() << "\n\n" << sub->get_description() << "\n\n";
+    markdown_options(out, *sub);
+  }
   return out.str();
 }
 
