@@ -36,7 +36,7 @@ needs an active object ("Context missing active object" otherwise). Then the
 .blend is saved to `--output`. At resolution 32 and 24 frames the bake
 takes 2.5-3.5 s on 2 cores (resolution 48 and 30 frames: about 20 s).
 The script bakes a new domain only: re-baking an already baked domain from
-a script in the same session is unreliable in 3.4.1 (bake_all returns
+a script in the same Blender process is unreliable in 3.4.1 (bake_all returns
 FINISHED at once without writing, and free_all followed by bake_all
 crashed).
 

@@ -640,9 +640,9 @@ void texture_metrics(const TexturedFrame& frame, const TrackingOptions& resolved
       exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
   double spectrum = std::nan("");
   for (int n : {64, 32, 16}) {
-    // 64 windows a frame and 32 exemplar crops: with 8 of each (until
-    // 2026-12-04) a frame's figure depended on which 8 places of
-    // the surface the chart layout put first in scan order.
+    // 64 windows a frame and 32 exemplar crops: with 8 of each a frame's
+    // figure depends on which 8 places of the surface the chart layout
+    // puts first in scan order.
     const auto windows = chart_windows(mask, frame.atlas.width, n, 64);
     if (windows.empty() || !(scale > 0.0)) continue;
     std::vector<double> reference(n / 2 - 1, 0.0);

@@ -147,7 +147,7 @@ TEST(Atlas, AChartThatFillsLittleOfItsBoxIsCutInTwo) {
   // takes all of it but the slit that keeps it a disk, a C filling 40 % of
   // its box. It is cut across its long side into halves, and those again
   // while they fill less than half their box; grown again at a quarter the
-  // size from the faces left (until 2026-12-04), it fell into small charts.
+  // size from the faces left instead, it falls into small charts.
   FrameMesh ring;
   const int rings = 12, segments = 200;
   for (int j = 0; j <= rings; ++j) {

@@ -203,7 +203,7 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
 TEST(RealData, SloshKeepsItsPatchesAndStaysCovered) {
   const auto cut = track_real("slosh", "1-24");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Measured (frames 1-24, 2026-12-04): births 0.35 % of the
+  // Measured (frames 1-24): births 0.35 % of the
   // live patches per frame, 91 % of the first frame's patches kept through
   // the first half swing (the liquid really stretches there, up to D ≈ 2);
   // --birth-gap centres: 0.8 %, 91 %. Earlier (centres): --birth-margin 0:
@@ -226,7 +226,7 @@ TEST(RealData, SloshKeepsItsPatchesAndStaysCovered) {
 TEST(RealData, DropChurnStaysBounded) {
   const auto cut = track_real("drop", "1-16");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
-  // Measured (frames 1-16, through the impact, 2026-12-04):
+  // Measured (frames 1-16, through the impact):
   // births 1.6 % per frame, 84 % of the first frame's patches kept, and
   // patches per area at most 1.05× the first frame's (--birth-gap centres:
   // 3.0 %, 84 %, 1.30×; earlier, centres: --birth-margin 0: 4.4 %, 71 %;
@@ -245,8 +245,8 @@ TEST(RealData, ObstacleSplashDropletsAreCovered) {
   // 14, 19, 21); the plane test cuts their patches down to border triangles.
   // Measured: no bare surface (8-12 bare faces per such frame before the
   // border tail and the refill), births 6.2 % of the live patches per frame
-  // and 81 % of the first frame's patches kept (2026-12-04;
-  // --birth-gap centres: 8.5 %, 81 %; earlier, centres, with patch edges
+  // and 81 % of the first frame's patches kept (--birth-gap
+  // centres: 8.5 %, 81 %; earlier, centres, with patch edges
   // of d/4: 7.4 %, 91 %; --birth-margin 0: 9.4 %, 85 %; --distorted fade:
   // 18 %, 38 %). Patches per area never above the first frame's (the
   // sheet spreads), 1.24× with --birth-gap centres. The sink rule retires

@@ -56,9 +56,9 @@ struct TrackerSettings {
   /// centre is near (see fill_gaps); off gives the paper's centre-only test.
   bool coverage_aware = true;
   /// Patch triangles are remeshed to edges of this × d (≤ 0 keeps the
-  /// surface's own triangles; see build_patch). 0.35: edges of d/4 (the
-  /// default until 2026-12-04) carried twice the vertices for the same
-  /// texture and churn on the real caches (docs/performance.md).
+  /// surface's own triangles; see build_patch). 0.35: edges of d/4 carry
+  /// twice the vertices for the same texture and churn on the real caches
+  /// (docs/performance.md).
   double patch_edge = 0.35;
 };
 
