@@ -464,6 +464,8 @@ void add_eval(CLI::App& app, int& exit_code) {
     int verbosity = 0;
     bool quiet = false;
     int threads = 0;
+    bool check = false;
+    std::string thresholds_file;
   };
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd =
@@ -492,7 +494,16 @@ void add_eval(CLI::App& app, int& exit_code) {
   add_threads_option(cmd, args->threads);
   cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
   cmd->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
-  cmd->callback([args, &exit_code]() {
+  cmd->add_flag("--check", args->check, "Exit 1 when the verdict is bad (a figure beyond its bad threshold), for CI");
+  cmd->add_option("--thresholds", args->thresholds_file,
+                  "TOML file of verdict thresholds, in its [eval] table (the options given here win)");
+  for (const OptionRef& ref : option_table(args->eval.thresholds)) add_table_option(cmd, ref);
+  cmd->callback([args, &exit_code, cmd]() {
+    if (!args->thresholds_file.empty()) {
+      apply_config(read_config_file(args->thresholds_file, "eval"), option_table(args->eval.thresholds),
+                   args->thresholds_file, [&](const std::string& name) { return cmd->count("--" + name) > 0; });
+    }
+    args->eval.thresholds.validate();
     const JobOptions job = read_job_manifest(args->eval.run_dir);
     EvalOptions options = args->eval;
     // Input settings as the run read the sequence; the pattern (and frames) given here.
@@ -506,7 +517,13 @@ void add_eval(CLI::App& app, int& exit_code) {
     const auto threads = limit_threads(args->threads);
     const EvalSummary summary = run_eval(options, job, reporter);
     reporter.info("fluidtex eval: " + std::to_string(summary.frames) + " frames; report: " + summary.report);
-    exit_code = 0;
+    const std::string verdict = "verdict: " + summary.verdict.line;
+    if (summary.verdict.grade == Grade::Good)
+      reporter.info(verdict);
+    else
+      reporter.warn(verdict);
+    for (const VerdictRange& r : summary.verdict.ranges) reporter.warn(r.line);
+    exit_code = args->check && summary.verdict.grade == Grade::Bad ? 1 : 0;
   });
 }
 

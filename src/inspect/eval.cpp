@@ -319,7 +319,7 @@ namespace fluidtex {
 
 namespace {
 
-using Row = std::vector<std::pair<std::string, double>>;  // NaN = not measured
+using Row = MetricRow;  // NaN = not measured
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return std::nan("");
@@ -328,8 +328,30 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
+/// The report shows the worst frame of at most this many bad frame ranges.
+constexpr int kWorstImages = 6;
+
+/// Text as HTML shows it literally.
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '&')
+      out += "&amp;";
+    else if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '\'')
+      out += "&#39;";
+    else
+      out += c;
+  }
+  return out;
+}
+
 /// A number for people (charts, the report's table): 6 significant digits.
 std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? "∞" : "−∞";
   if (!std::isfinite(v)) return "–";
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -346,7 +368,7 @@ double get(const Row& row, const std::string& key) {
 /// One metric against frame as an inline SVG line chart (several series).
 std::string svg_chart(const std::string& title, const std::vector<Row>& rows, const std::vector<std::string>& keys,
                       const std::vector<std::string>& labels) {
-  const double W = 560, H = 220, L = 56, R = 150, T = 24, B = 30;
+  const double W = 560, H = 230, L = 56, R = 150, T = 24, B = 34;
   double x0 = 1e300, x1 = -1e300, y0 = 0.0, y1 = -1e300;
   for (const Row& r : rows) {
     const double f = get(r, "frame");
@@ -363,15 +385,32 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
   s << "<text x='" << L << "' y='14' font-weight='bold'>" << title << "</text>";
   if (!(x1 >= x0) || !(y1 > -1e300)) return s.str() + "<text x='60' y='100'>not measured</text></svg>";
   if (x1 == x0) x1 = x0 + 1;
-  if (y1 <= y0) y1 = y0 + 1e-9 + std::abs(y0) * 0.1;
+  if (y1 <= y0) y1 = y0 + (y0 == 0.0 ? 1.0 : std::abs(y0) * 0.1);  // a flat series: a readable axis
   auto X = [&](double f) { return L + (f - x0) / (x1 - x0) * (W - L - R); };
   auto Y = [&](double v) { return H - B - (v - y0) / (y1 - y0) * (H - T - B); };
   s << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='" << H - T - B
     << "' fill='none' stroke='#999'/>";
-  s << "<text x='" << L - 4 << "' y='" << Y(y1) + 4 << "' text-anchor='end'>" << number(y1) << "</text>";
-  s << "<text x='" << L - 4 << "' y='" << Y(y0) + 4 << "' text-anchor='end'>" << number(y0) << "</text>";
-  s << "<text x='" << X(x0) << "' y='" << H - 12 << "'>" << number(x0) << "</text>";
-  s << "<text x='" << X(x1) << "' y='" << H - 12 << "' text-anchor='end'>frame " << number(x1) << "</text>";
+  // Ticks at 1, 2 or 5 times a power of ten, about five on each axis, with
+  // grid lines across the plot.
+  auto step_for = [](double range) {
+    const double raw = range / 5.0, power = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0})
+      if (m * power >= raw) return m * power;
+    return 10.0 * power;
+  };
+  const double ystep = step_for(y1 - y0), xstep = std::max(1.0, step_for(x1 - x0));
+  for (double v = std::ceil(y0 / ystep) * ystep; v <= y1 + 1e-9 * ystep; v += ystep) {
+    const double y = Y(v);
+    s << "<line x1='" << L << "' x2='" << W - R << "' y1='" << y << "' y2='" << y << "' stroke='#e4e4e4'/>";
+    s << "<text x='" << L - 4 << "' y='" << y + 4 << "' text-anchor='end'>" << number(std::abs(v) < 1e-12 ? 0.0 : v)
+      << "</text>";
+  }
+  for (double f = std::ceil(x0 / xstep) * xstep; f <= x1 + 1e-9; f += xstep) {
+    s << "<line x1='" << X(f) << "' x2='" << X(f) << "' y1='" << H - B << "' y2='" << H - B + 4
+      << "' stroke='#999'/><text x='" << X(f) << "' y='" << H - B + 15 << "' text-anchor='middle'>" << number(f)
+      << "</text>";
+  }
+  s << "<text x='" << W - R << "' y='" << H - 2 << "' text-anchor='end'>frame</text>";
   const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
   for (std::size_t k = 0; k < keys.size(); ++k) {
     std::string path;
@@ -711,7 +750,8 @@ Row summarize(const std::vector<Row>& rows, const std::vector<double>& lifetimes
 
 /// The self-contained HTML report: summary, removal table, charts, frames.
 std::string html_report(const std::string& run_dir, const std::vector<Row>& rows, const Row& summary,
-                        const PatchHistory& history, const std::vector<std::string>& images) {
+                        const PatchHistory& history, const std::vector<std::string>& images, const Verdict& verdict,
+                        const std::vector<std::string>& worst_images) {
   std::ostringstream html;
   html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << run_dir
        << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
@@ -721,7 +761,34 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
        << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
           "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
           "move, and random points).</p>";
-  html << "<h2>Summary</h2><table>";
+  const char* colour[] = {"#2ca02c", "#e6a100", "#d62728"};
+  html << "<h2>Verdict: <span style='color:" << colour[static_cast<int>(verdict.grade)] << "'>"
+       << enum_name(verdict.grade) << "</span></h2><p>" << html_escape(verdict.line)
+       << "</p><table><tr><th>figure</th><th>value</th><th>grade</th><th style='text-align:left'>unit</th>"
+          "<th>good up to</th><th>bad above</th><th style='text-align:left'>when bad</th></tr>";
+  for (const VerdictFigure& f : verdict.figures) {
+    html << "<tr><th>" << f.name << "</th><td>" << number(f.value)
+         << "</td><td style='color:" << (std::isnan(f.value) ? "#888" : colour[static_cast<int>(f.grade)]) << "'>"
+         << (std::isnan(f.value) ? "not measured" : enum_name(f.grade)) << "</td><td style='text-align:left'>"
+         << html_escape(f.unit) << "</td><td>" << number(f.good) << "</td><td>" << number(f.bad)
+         << "</td><td style='text-align:left'>" << html_escape(f.meaning) << "</td></tr>";
+  }
+  html << "</table>";
+  if (!verdict.ranges.empty()) {
+    html << "<h3>Where it is bad</h3><ul>";
+    for (std::size_t i = 0; i < verdict.ranges.size(); ++i) {
+      html << "<li>" << html_escape(verdict.ranges[i].line);
+      if (i < worst_images.size())
+        html << " &mdash; <a href='#worst" << i << "'>frame " << verdict.ranges[i].worst << "</a>";
+      html << "</li>";
+    }
+    html << "</ul>";
+    for (std::size_t i = 0; i < worst_images.size(); ++i) {
+      html << "<figure id='worst" << i << "'><img src='" << png_data_uri(worst_images[i]) << "'><figcaption>frame "
+           << verdict.ranges[i].worst << ": " << html_escape(verdict.ranges[i].line) << "</figcaption></figure>";
+    }
+  }
+  html << "<h2>Summary</h2><p>Means over the frames measured (metrics.jsonl has every frame).</p><table>";
   for (const auto& [k, v] : summary) html << "<tr><th>" << k << "</th><td>" << number(v) << "</td></tr>";
   html << "</table><h2>Why patches leave</h2><p>Patches flagged to fade out or lost, by the rule that fired "
           "and their age then (frames since creation), over all frames.</p><table><tr><th>rule</th>";
@@ -878,9 +945,21 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   write_text_atomically(dir + "/metrics.jsonl", lines);
   const Row summary = summarize(rows, history.lifetimes);
   write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
-  write_text_atomically(dir + "/report.html", html_report(options.run_dir, rows, summary, history, images));
+  EvalSummary out{rows.size(), dir + "/report.html", judge(rows, options.thresholds)};
+  write_text_atomically(dir + "/verdict.json", verdict_json(out.verdict));
+  // The worst frame of each range where a figure is bad, rendered for the report.
+  std::vector<std::string> worst_images;
+  for (const VerdictRange& r : out.verdict.ranges) {
+    if (static_cast<int>(worst_images.size()) == kWorstImages) break;
+    const std::string png = FramePattern(dir + "/worst.####.png").path(r.worst);
+    const TexturedFrame frame = read_run_frame(atlas_pattern, mesh_pattern, r.worst);
+    write_image(png, render_textured(frame.mesh, frame.atlas, options.render), ImageWriteOptions{});
+    worst_images.push_back(png);
+  }
+  write_text_atomically(dir + "/report.html",
+                        html_report(options.run_dir, rows, summary, history, images, out.verdict, worst_images));
   reporter.progress(sequence.size(), sequence.size(), "eval");
-  return {rows.size(), dir + "/report.html"};
+  return out;
 }
 
 }  // namespace fluidtex

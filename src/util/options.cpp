@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "fluidtex/util/atomic_file.h"
+
 namespace fluidtex {
 
 namespace option_detail {
@@ -151,6 +153,7 @@ std::string format_toml(const std::vector<OptionRef>& options) {
 }
 
 std::vector<ConfigEntry> read_config_file(const std::string& path, const std::string& table) {
+  require_regular_file(path, "config file");  // a folder or a device would read as an empty file
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot read config file");
   // CLI11 2.1 cuts a value at the first '#' even inside quotes

@@ -9,6 +9,7 @@
 
 #include "fluidtex/geometry/surface.h"
 #include "fluidtex/inspect/eval.h"
+#include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/util/error.h"
@@ -223,6 +224,59 @@ TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
   // Not a run's folder: a clear error.
   EXPECT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + scene + " -q"), 2);
+}
+
+TEST(Eval, CheckPassesARunAndFailsAStillTexture) {
+  // A run of the rotating scene, and the same run with every frame's atlas
+  // and UV mesh replaced by frame 1's: a texture that stands still while the
+  // liquid turns.
+  test::TempDir dir;
+  const std::string scene = dir.file("scene");
+  ASSERT_EQ(test::run_fluidtex("gen rotation -o " + scene +
+                               " --frames 5 --resolution 24 --exemplar gravel --exemplar-size 64"),
+            0);
+  const std::string good = dir.file("good"), still = dir.file("still");
+  ASSERT_EQ(test::run_fluidtex("run -q -i '" + scene + "/rotation.####.ply' -e " + scene + "/gravel.png -o " + good +
+                               " --atlas-size 256"),
+            0);
+  std::filesystem::copy(good, still, std::filesystem::copy_options::recursive);
+  for (int f = 2; f <= 5; ++f) {
+    for (const char* p : {"atlas.####.exr", "mesh.####.obj"})
+      std::filesystem::copy_file(still + "/" + FramePattern(p).path(1), still + "/" + FramePattern(p).path(f),
+                                 std::filesystem::copy_options::overwrite_existing);
+  }
+  const std::string eval = " --samples 2000 --flow-width 0 --check";
+  std::string out;
+  EXPECT_EQ(test::run_fluidtex("eval -o " + good + eval, &out), 0) << out;
+  EXPECT_NE(out.find("verdict: "), std::string::npos) << out;
+  EXPECT_EQ(test::read_file(good + "/eval/verdict.json").find("\"grade\":\"bad\""), std::string::npos);
+  EXPECT_EQ(test::run_fluidtex("eval -o " + still + eval, &out), 1) << out;
+  EXPECT_NE(out.find("verdict: bad: warping ratio"), std::string::npos) << out;
+  EXPECT_NE(out.find("frames 2–5: the texture slides against the liquid"), std::string::npos) << out;
+  const std::string verdict = test::read_file(still + "/eval/verdict.json");
+  EXPECT_NE(verdict.find("\"grade\":\"bad\""), std::string::npos) << verdict;
+  EXPECT_TRUE(std::filesystem::exists(still + "/eval/worst.0002.png") ||
+              std::filesystem::exists(still + "/eval/worst.0003.png") ||
+              std::filesystem::exists(still + "/eval/worst.0004.png") ||
+              std::filesystem::exists(still + "/eval/worst.0005.png"));
+  const std::string html = test::read_file(still + "/eval/report.html");
+  EXPECT_NE(html.find("Verdict: <span"), std::string::npos);
+  EXPECT_NE(html.find("href='#worst0'"), std::string::npos);
+  // Without --check the verdict is reported, not enforced.
+  EXPECT_EQ(test::run_fluidtex("eval -q -o " + still + " --samples 2000 --flow-width 0", &out), 0) << out;
+  // Thresholds from the command line and from a file (the good run blends
+  // about 1.9 patches per texel); a good bound above its bad one is refused.
+  EXPECT_EQ(test::run_fluidtex("eval -q -o " + good + eval + " --ghosting-good 1 --ghosting-bad 1.5", &out), 1) << out;
+  EXPECT_NE(out.find("verdict: bad: ghosting"), std::string::npos) << out;
+  test::write_file(dir.path() / "t.toml", "[eval]\nghosting-good = 1\nghosting-bad = 1.5\n");
+  EXPECT_EQ(test::run_fluidtex("eval -q -o " + good + eval + " --thresholds " + dir.file("t.toml"), &out), 1) << out;
+  EXPECT_EQ(test::run_fluidtex(
+                "eval -q -o " + good + eval + " --thresholds " + dir.file("t.toml") + " --ghosting-bad 3", &out),
+            0)
+      << out;
+  EXPECT_EQ(test::run_fluidtex("eval -q -o " + still + eval + " --warping-good 0.9 --warping-bad 0.5", &out), 2) << out;
+  EXPECT_NE(out.find("--warping-good 0.9 is above --warping-bad 0.5"), std::string::npos) << out;
+  EXPECT_EQ(test::run_fluidtex("eval -q -o " + still + eval + " --thresholds " + dir.str(), &out), 2) << out;
 }
 
 TEST(Eval, AStepRunIsMeasuredThroughTheFramesItSkipsAndPerFrame) {

@@ -3,8 +3,8 @@
 /// from its outputs (atlas + UV mesh), its patch states and the input
 /// sequence: coverage, ghosting, patch life, distortion, texture–flow
 /// agreement (warping error and optical flow against the fluid velocity),
-/// contrast and spectrum. Writes OUT/eval/metrics.jsonl, summary.json and a
-/// self-contained report.html.
+/// contrast and spectrum. Writes OUT/eval/metrics.jsonl, summary.json, the
+/// verdict (verdict.json, verdict.h) and a self-contained report.html.
 ///
 /// The metric functions are exposed on their own so that each can be tested
 /// on a case with a known answer.
@@ -17,6 +17,7 @@
 
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/inspect/render.h"
+#include "fluidtex/inspect/verdict.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/pipeline.h"
@@ -141,11 +142,13 @@ struct EvalOptions {
   double flow_max_motion = kFlowMaxMotionPx;  ///< pixels per frame; faster pixels are left out of the slow_ flow means
   int report_images = 4;  ///< preview images in the report
   RenderOptions render;   ///< camera of the flow renders and report images
+  EvalThresholds thresholds;  ///< the verdict's good / warn / bad bounds
 };
 
 struct EvalSummary {
   std::size_t frames = 0;
   std::string report;  ///< path of report.html
+  Verdict verdict;     ///< also in OUT/eval/verdict.json and at the top of the report
 };
 
 /// Evaluates the run in options.run_dir made with `job` (read from its

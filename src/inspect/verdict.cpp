@@ -1,0 +1,213 @@
+#include "fluidtex/inspect/verdict.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "fluidtex/io/stats.h"
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+namespace {
+
+double value_of(const MetricRow& row, const std::string& key) {
+  for (const auto& [k, v] : row) {
+    if (k == key) return v;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// The figures judged per frame and per shot: how one frame's value is
+/// read from its row.
+struct Measure {
+  const char* key;
+  const char* name;
+  const char* unit;
+  const char* meaning;
+  double (*per_frame)(const MetricRow&);
+};
+
+/// A frame's warping ratio; infinite for a texture that does not change in
+/// place at all (a still texture) while it changes along the liquid.
+double warping(const MetricRow& r) {
+  const double fixed = value_of(r, "warp_fixed"), advected = value_of(r, "warp_advected");
+  if (fixed > 0.0) return advected / fixed;
+  return advected > 0.0 ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// A frame's flow error over its slow pixels; not judged where they move
+/// less than a pixel a frame (the ratio is noise there).
+double flow(const MetricRow& r) {
+  const double speed = value_of(r, "flow_slow_speed_px");
+  return speed >= 1.0 ? value_of(r, "flow_slow_endpoint_px") / speed : std::numeric_limits<double>::quiet_NaN();
+}
+
+const Measure kMeasures[] = {
+    {"coverage", "uncovered surface", "share of the surface area, largest frame", "the texture leaves surface bare",
+     [](const MetricRow& r) { return value_of(r, "uncovered_area"); }},
+    {"warping", "warping ratio", "change along the liquid's motion over a still texture's change in place (0 to 1+)",
+     "the texture slides against the liquid", warping},
+    {"flow", "flow error", "optical-flow endpoint error over the liquid's projected motion, pixels under 15 px",
+     "the texture's motion disagrees with the liquid's", flow},
+    {"ghosting", "ghosting", "patches blended per texel, mean", "many patches blend into a blur",
+     [](const MetricRow& r) { return value_of(r, "ghosting_mean"); }},
+    {"contrast", "contrast change", "|σ of the atlas's green over the exemplar's − 1|",
+     "the texture is washed out, or harsher than its exemplar",
+     [](const MetricRow& r) { return std::abs(value_of(r, "contrast_g") - 1.0); }},
+    {"churn", "churn", "births per live patch a frame", "patches are born and fade all the time (popping)",
+     [](const MetricRow& r) { return value_of(r, "birth_rate"); }},
+    {"distortion", "distortion", "95th percentile of the patch triangles' D_T (1 = undistorted)",
+     "the texture is stretched or squeezed", [](const MetricRow& r) { return value_of(r, "distortion_p95"); }},
+};
+
+std::pair<double, double> bounds_of(const EvalThresholds& t, const std::string& key) {
+  if (key == "coverage") return {t.uncovered_good, t.uncovered_bad};
+  if (key == "warping") return {t.warping_good, t.warping_bad};
+  if (key == "flow") return {t.flow_good, t.flow_bad};
+  if (key == "ghosting") return {t.ghosting_good, t.ghosting_bad};
+  if (key == "contrast") return {t.contrast_good, t.contrast_bad};
+  if (key == "churn") return {t.churn_good, t.churn_bad};
+  return {t.distortion_good, t.distortion_bad};
+}
+
+Grade grade_of(double value, double good, double bad) {
+  if (std::isnan(value) || value <= good) return Grade::Good;
+  return value > bad ? Grade::Bad : Grade::Warn;
+}
+
+/// The shot's value of `m`: the largest frame's for coverage, the summed
+/// ratio for the flow error, the mean of the frames' values otherwise
+/// (churn without the first frame, whose disks are all new).
+double shot_value(const Measure& m, const std::vector<MetricRow>& rows) {
+  const std::string key = m.key;
+  double sum = 0.0, other = 0.0, largest = -1.0;
+  int n = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (key == "churn" && i == 0) continue;
+    if (key == "flow") {
+      const double e = value_of(rows[i], "flow_slow_endpoint_px"), s = value_of(rows[i], "flow_slow_speed_px");
+      if (std::isfinite(e) && std::isfinite(s)) sum += e, other += s, ++n;
+      continue;
+    }
+    if (key == "contrast") {  // the mean σ ratio's distance from 1
+      const double c = value_of(rows[i], "contrast_g");
+      if (std::isfinite(c)) sum += c, ++n;
+      continue;
+    }
+    const double v = m.per_frame(rows[i]);
+    if (std::isnan(v)) continue;
+    sum += v, ++n, largest = std::max(largest, v);
+  }
+  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
+  if (key == "coverage") return largest;
+  if (key == "flow") return other > 0.0 ? sum / other : std::numeric_limits<double>::quiet_NaN();
+  if (key == "contrast") return std::abs(sum / n - 1.0);
+  return sum / n;
+}
+
+std::string figure_text(double v) {
+  if (std::isinf(v)) return "∞";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, std::abs(v) < 0.01 && v != 0.0 ? "%.2g" : "%.3g", v);
+  return buf;
+}
+
+std::string range_text(int first, int last) {
+  return first == last ? "frame " + std::to_string(first)
+                       : "frames " + std::to_string(first) + "–" + std::to_string(last);
+}
+
+}  // namespace
+
+void EvalThresholds::validate() const {
+  check_options(*this);
+  EvalThresholds copy = *this;
+  const std::vector<OptionRef> table = option_table(copy);
+  for (std::size_t i = 0; i + 1 < table.size(); i += 2) {
+    if (std::stod(table[i].text()) > std::stod(table[i + 1].text()))
+      throw InputError("", "--" + std::string(table[i].info.name) + " " + table[i].text() + " is above --" +
+                               table[i + 1].info.name + " " + table[i + 1].text());
+  }
+}
+
+std::vector<OptionRef> option_table(EvalThresholds& t) {
+  std::vector<OptionRef> table;
+  EvalThresholds::for_each_option(
+      t, [&](const OptionInfo& info, auto& field) { table.push_back(bind_option(info, field)); });
+  return table;
+}
+
+Verdict judge(const std::vector<MetricRow>& rows, const EvalThresholds& thresholds) {
+  Verdict verdict;
+  for (const Measure& m : kMeasures) {
+    VerdictFigure f;
+    f.key = m.key, f.name = m.name, f.unit = m.unit, f.meaning = m.meaning;
+    std::tie(f.good, f.bad) = bounds_of(thresholds, f.key);
+    f.value = shot_value(m, rows);
+    f.grade = grade_of(f.value, f.good, f.bad);
+    verdict.grade = std::max(verdict.grade, f.grade);
+    verdict.figures.push_back(f);
+    // Runs of consecutive frames where this figure is bad.
+    if (f.key == "churn" || f.key == "contrast" || f.key == "distortion") continue;  // judged per shot
+    VerdictRange open;
+    bool in_range = false;
+    auto close = [&] {
+      if (!in_range) return;
+      open.key = f.key;
+      open.line = range_text(open.first, open.last) + ": " + f.meaning + " (" + f.name + " up to " +
+                  figure_text(open.worst_value) + ")";
+      verdict.ranges.push_back(open);
+      in_range = false;
+    };
+    for (const MetricRow& r : rows) {
+      const double v = m.per_frame(r);
+      const int frame = static_cast<int>(value_of(r, "frame"));
+      if (grade_of(v, f.good, f.bad) != Grade::Bad) {
+        close();
+        continue;
+      }
+      if (!in_range) open = VerdictRange{frame, frame, frame, f.key, v, ""}, in_range = true;
+      open.last = frame;
+      if (v > open.worst_value) open.worst_value = v, open.worst = frame;
+    }
+    close();
+  }
+  // The line: the worst figures, bad before warn.
+  std::string worst;
+  for (Grade g : {Grade::Bad, Grade::Warn}) {
+    for (const VerdictFigure& f : verdict.figures) {
+      if (f.grade != g) continue;
+      if (!worst.empty()) worst += "; ";
+      worst += f.name + " " + figure_text(f.value) + " (" +
+               (g == Grade::Bad ? "bad above " + figure_text(f.bad) : "good up to " + figure_text(f.good)) +
+               "): " + f.meaning;
+    }
+    if (!worst.empty()) break;
+  }
+  verdict.line = std::string(enum_name(verdict.grade)) + ": " + (worst.empty() ? "every figure is good" : worst);
+  return verdict;
+}
+
+std::string verdict_json(const Verdict& verdict) {
+  std::ostringstream s;
+  auto number = [](double v) { return std::isfinite(v) ? option_detail::format_number(v) : std::string("null"); };
+  s << "{\"grade\":\"" << enum_name(verdict.grade) << "\",\"line\":" << json_string(verdict.line) << ",\"figures\":[";
+  for (std::size_t i = 0; i < verdict.figures.size(); ++i) {
+    const VerdictFigure& f = verdict.figures[i];
+    s << (i ? "," : "") << "{\"key\":\"" << f.key << "\",\"name\":" << json_string(f.name)
+      << ",\"value\":" << number(f.value) << ",\"unit\":" << json_string(f.unit) << ",\"good\":" << number(f.good)
+      << ",\"bad\":" << number(f.bad) << ",\"grade\":\"" << enum_name(f.grade)
+      << "\",\"meaning\":" << json_string(f.meaning) << "}";
+  }
+  s << "],\"frames\":[";
+  for (std::size_t i = 0; i < verdict.ranges.size(); ++i) {
+    const VerdictRange& r = verdict.ranges[i];
+    s << (i ? "," : "") << "{\"first\":" << r.first << ",\"last\":" << r.last << ",\"worst\":" << r.worst
+      << ",\"key\":\"" << r.key << "\",\"line\":" << json_string(r.line) << "}";
+  }
+  s << "]}\n";
+  return s.str();
+}
+
+}  // namespace fluidtex
