@@ -415,10 +415,8 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview->add_option("--atlas", args->options.atlas_pattern, "Atlas pattern (default: the run's)");
   preview
       ->add_option("--overlay", args->overlays,
-                   "Draw over the frames (comma list, any of): borders = patch boundary edges, one colour per "
-                   "patch; states = disk centres by state: blue fading in, green active, red fading out "
-                   "(too distorted), yellow fading out (too close); velocity = vertex velocity arrows. "
-                   "Reads the input RUN/job.toml records, or -i (and RUN/state/ for borders and states)")
+                   "Draw over the frames (comma list): borders, states (disk centres by state), velocity (arrows); "
+                   "reads the input RUN/job.toml records, or -i")
       ->delimiter(',')
       ->check(CLI::IsMember({"borders", "states", "velocity"}))
       ->group("Overlays");

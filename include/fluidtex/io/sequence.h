@@ -38,18 +38,18 @@ constexpr const auto& enum_names(FpsSource) { return kFpsSourceNames; }
 
 /// How to read the input sequence.
 struct InputOptions {
-  std::string pattern;                   ///< -i: frame pattern (####, %04d, $F4)
-  std::string frames;                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
+  std::string pattern;                                   ///< -i: frame pattern (####, %04d, $F4)
+  std::string frames;                                    ///< --frames: "1-120", "1-120x2"; empty = all on disk
   SkippedFrames skipped_frames = SkippedFrames::Follow;  ///< --skipped-frames
   std::optional<double> fps;                             ///< frames per second, dt = 1/fps; unset: Sequence::fps()
-  std::string velocity_attr;             ///< --velocity-attr; empty = auto-detect
-  bool velocity_from_positions = false;  ///< derive velocities by central differences
-  bool strict = false;                   ///< reject non-manifold frames instead of carrying on
-  std::string vdb_surface;               ///< .vdb input: level-set grid (empty = auto)
-  std::string vdb_velocity;              ///< .vdb input or --velocity-vdb: velocity grid (empty = auto)
-  double vdb_iso = 0.0;                  ///< .vdb input: iso value of the surface
-  double vdb_adaptivity = 0.0;           ///< .vdb input: volumeToMesh adaptivity
-  std::string velocity_vdb;              ///< take velocities from this VDB frame pattern
+  std::string velocity_attr;                             ///< --velocity-attr; empty = auto-detect
+  bool velocity_from_positions = false;                  ///< derive velocities by central differences
+  bool strict = false;                                   ///< reject non-manifold frames instead of carrying on
+  std::string vdb_surface;                               ///< .vdb input: level-set grid (empty = auto)
+  std::string vdb_velocity;                              ///< .vdb input or --velocity-vdb: velocity grid (empty = auto)
+  double vdb_iso = 0.0;                                  ///< .vdb input: iso value of the surface
+  double vdb_adaptivity = 0.0;                           ///< .vdb input: volumeToMesh adaptivity
+  std::string velocity_vdb;                              ///< take velocities from this VDB frame pattern
 
   /// Every field as f(OptionInfo, field) (util/options.h).
   template <class Self, class F>
@@ -60,9 +60,8 @@ struct InputOptions {
       o.pattern);
     f(OptionInfo{.name = "frames", .help = "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)"}, o.frames);
     f(OptionInfo{.name = "skipped-frames",
-                 .help = "Frames on disk that a stepped range skips (1-120x2): follow (read them and carry the "
-                         "texture through their velocities, so each written frame is the every-frame run's) or "
-                         "ignore (one step across the gap: less tracking, but fast liquid outruns it)"},
+                 .help = "Frames a stepped range skips: follow (track through them, each written frame the every-frame "
+                         "run's) or ignore"},
       o.skipped_frames);
     f(OptionInfo{.name = "fps",
                  .help = "Frames per second; the frame step is 1/fps (auto: the rate the first frame's PLY header "
@@ -79,20 +78,20 @@ struct InputOptions {
       o.velocity_from_positions);
     f(OptionInfo{.name = "strict", .help = "Reject non-manifold frames instead of carrying on"}, o.strict);
     f(OptionInfo{.name = "vdb-surface",
-                  .help = "Level-set grid of .vdb input (default: the first level set, or 'surface' or 'phi')"},
+                 .help = "Level-set grid of .vdb input (default: the first level set, or 'surface' or 'phi')"},
       o.vdb_surface);
     f(OptionInfo{.name = "vdb-velocity",
-                  .help = "Velocity grid of .vdb input or --velocity-vdb (default: 'vel', 'velocity' or 'v'; "
-                          "a staggered grid is sampled as one)"},
+                 .help = "Velocity grid of .vdb input or --velocity-vdb (default: 'vel', 'velocity' or 'v'; "
+                         "a staggered grid is sampled as one)"},
       o.vdb_velocity);
     f(OptionInfo{.name = "vdb-iso", .help = "Iso value of the surface in a .vdb level set (world units)"}, o.vdb_iso);
     f(OptionInfo{.name = "vdb-adaptivity",
-                  .help = "Mesh adaptivity for .vdb input, 0 (uniform) to 1 (fewest polygons on flat parts)",
-                  .bounds = between(0.0, 1.0)},
+                 .help = "Mesh adaptivity for .vdb input, 0 (uniform) to 1 (fewest polygons on flat parts)",
+                 .bounds = between(0.0, 1.0)},
       o.vdb_adaptivity);
     f(OptionInfo{.name = "velocity-vdb",
-                  .help = "Take each frame's velocities from this VDB frame pattern (same frame numbers), "
-                          "sampled at the mesh's vertices"},
+                 .help = "Take each frame's velocities from this VDB frame pattern (same frame numbers), "
+                         "sampled at the mesh's vertices"},
       o.velocity_vdb);
   }
   void validate() const;

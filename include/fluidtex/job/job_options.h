@@ -126,17 +126,15 @@ struct SynthesisJobOptions {
       o.displacement);
     f(OptionInfo{.name = "float", .help = "32-bit float EXR/TIFF instead of half / 16-bit"}, o.float_output);
     f(OptionInfo{.name = "compression",
-                 .help = "EXR atlas compression: piz (lossless, default), zip (lossless, 2x slower to write), none, "
-                         "rle, zips; pxr24, "
-                         "b44, b44a, dwaa, dwab (lossy; dwaa at --dwa-level 45 is about a quarter of zip's size)"},
+                 .help = "EXR atlas compression: piz (default), zip, none, rle, zips (lossless); pxr24, b44, b44a, "
+                         "dwaa, dwab (lossy)"},
       o.compression);
     f(OptionInfo{.name = "dwa-level",
                  .help = "Compression level of dwaa and dwab (OpenEXR's default 45; higher: smaller, lossier)",
                  .bounds = between(1, 1000)},
       o.dwa_level);
     f(OptionInfo{.name = "texture-layout",
-                 .help = "Atlas layout: scanline; tiled (64x64 tiles); mipmap (64x64 tiles and every MIP level, the "
-                         "texture renderers page in; EXR atlases)"},
+                 .help = "Atlas layout: scanline, tiled (64x64 tiles) or mipmap (tiles and every MIP level; EXR)"},
       o.layout);
     f(OptionInfo{.name = "bump-height",
                  .help = "Height of white above black in the height and normal atlases, as a fraction of the "
@@ -238,9 +236,8 @@ void JobOptions::for_each_option(Self& o, F&& f) {
                .group = paper},
     o.advection);
   f(OptionInfo{.name = "patch-motion",
-               .help = "smooth: a patch moves by one smooth (cubic) map fitted to its advected vertices, so that "
-                       "velocity and re-meshing noise cannot crush its triangles; vertex: every vertex on its own "
-                       "(paper)",
+               .help = "smooth: a patch moves by one cubic map fitted to its advected vertices; vertex: each vertex "
+                       "alone (the paper)",
                .group = paper},
     o.patch_motion);
   SynthesisJobOptions::for_each_option(o.synthesis, in_section("Synthesis"));

@@ -232,31 +232,23 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                .bounds = at_least(0)},
     o.selection_margin);
   f(OptionInfo{.name = "relax-frames",
-               .help =
-                   "plastic patches: where a patch triangle is stretched beyond the yield (the distortion at which its "
-                   "quality is halfway between 1 and Q_vmin: 1.5 by default), the patch's uv give way by 1/N of the "
-                   "excess per frame, so the patch keeps following the liquid instead of fading out (0: off, the "
-                   "paper)",
+               .help = "plastic patches: a triangle stretched beyond the yield gives way by 1/N of the excess a frame "
+                       "(0: off, the paper)",
                .bounds = at_least(0)},
     o.relax_frames);
   f(OptionInfo{.name = "kill-frames",
-               .help = "a disk within the kill distance of an older patch that covers its centre fades out only once "
-                       "it has been so for this many frames in a row, so that a compression the liquid undoes "
-                       "(sloshing, passing waves) retires nothing (0: at once, the paper)",
+               .help = "frames a too-close disk waits before it fades out, so that compressions the liquid undoes "
+                       "retire nothing (0: the paper)",
                .bounds = at_least(0)},
     o.kill_frames);
   f(OptionInfo{.name = "birth-margin",
-               .help = "gamma: after the first frame, a new disk is born only where no disk lies within (1 + gamma) x "
-                       "radius, a band against the kill distance so that gaps the liquid opens and closes again seed "
-                       "nothing and the patch count per area does not creep up (0: the paper)",
+               .help = "gamma: after the first frame a disk is born only where none lies within (1 + gamma) x radius "
+                       "(0: the paper)",
                .bounds = between(0, 1)},
     o.birth_margin);
   f(OptionInfo{.name = "projection-slack",
-               .help = "kappa: an advected patch vertex or disk centre is kept when it lands within mpt + kappa x its "
-                       "motion along the surface normal from the new surface: where the surface moves fast along its "
-                       "normal (a falling sheet, a rising crown), the solver's velocity predicts that motion only "
-                       "roughly, and the motion along the surface is what the texture shows (0: mpt alone, the "
-                       "paper)",
+               .help = "kappa: a vertex is kept within mpt + kappa x its motion along the normal from the new surface "
+                       "(0: the paper)",
                .bounds = between(0, 4)},
     o.projection_slack);
   f(OptionInfo{.name = "criterion", .help = "Poisson rejection: ellipsoid (paper), sphere, plane"}, o.criterion);
@@ -265,31 +257,24 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                        "radius), density (Eq. 6, paper) or linear (Eq. 5)"},
     o.fading);
   f(OptionInfo{.name = "distortion-test",
-               .help = "patch: a patch is too distorted when its mean quality over what its disk shows now "
-                       "(K_S's radial term times the current area; lost, flipped and split parts count 0) is below "
-                       "Q_vmin; vertex: when any vertex inside the disk is (paper)"},
+               .help = "patch: too distorted when the disk's mean quality is below Q_vmin; vertex: when any vertex's "
+                       "is (the paper)"},
     o.distortion_test);
   f(OptionInfo{.name = "distorted",
-               .help = "what becomes of a patch found too distorted: recut (cut again around its centre from the "
-                       "current surface and flattened anew, its texture kept in place) or fade (it fades out and a "
-                       "new patch replaces it, the paper)"},
+               .help = "a too-distorted patch: recut (cut again in place, texture kept) or fade (replaced by a new "
+                       "one, the paper)"},
     o.distorted);
   f(OptionInfo{.name = "birth-gap",
-               .help = "where a new disk's gap is measured after the first frame: patches (from the disk centres in "
-                       "space and, within (1 + gamma) x radius, in the uv of every live patch over the candidate, so "
-                       "a gap the liquid opens inside a stretched patch seeds nothing until the patch yields or is "
-                       "recut) or centres (in space only, the paper)"},
+               .help = "where a new disk's gap is measured: patches (in space and in the uv of the live patches) or "
+                       "centres (the paper)"},
     o.birth_gap);
   f(OptionInfo{.name = "gap-fill",
-               .help = "what covers surface left bare within radius of a live disk's centre (where liquid enters "
-                       "next to a patch): recut (that disk's patch, cut again from the current surface with its "
-                       "texture kept in place) or seed (a new disk there)"},
+               .help =
+                   "bare surface within radius of a disk: recut (that disk's patch cut again) or seed (a new disk)"},
     o.gap_fill);
   f(OptionInfo{.name = "sink",
-               .help = "where the liquid destroys surface (an outflow, a jet plunging into a pool): fade (of two disks "
-                       "within the kill distance, the one flagged fades out at once, without the kill-frames wait, "
-                       "when the surface around it has lost the fraction alpha of its area over about the last "
-                       "kill-frames frames) or keep (the kill-frames wait everywhere, the paper)"},
+               .help = "where liquid destroys surface: fade (a too-close disk there goes at once) or keep (the "
+                       "kill-frames wait, the paper)"},
     o.sink);
 }
 
