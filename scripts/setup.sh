@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 # The GDAL and Xerces-C runtime libraries (second to last line) come with
 # libopencv-dev's dependencies (OpenCV's image codecs link GDAL, GDAL links
 # Xerces-C); they are listed so that the list names every library the
-# build's link closure reaches.
+# build's link closure reaches. clang-format is the tests' (Style.ClangFormat).
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
@@ -19,6 +19,7 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev libblosc-dev
   libgdal32 libxerces-c3.2
   libgtest-dev libgmock-dev
+  clang-format
 )
 
 if [[ "${1:-}" == --list ]]; then

@@ -40,7 +40,8 @@ Sequence::Sequence(const InputOptions& options) : options_(options), pattern_(op
   for (int f : frames_) require_regular_file(pattern_.path(f), "frame " + std::to_string(f));
   if (!options_.velocity_vdb.empty()) {
     velocity_pattern_.emplace(options_.velocity_vdb);
-    for (int f : frames_) require_regular_file(velocity_pattern_->path(f), "velocity VDB of frame " + std::to_string(f));
+    for (int f : frames_)
+      require_regular_file(velocity_pattern_->path(f), "velocity VDB of frame " + std::to_string(f));
   }
   stated_fps_ = read_stated_fps(pattern_.path(frames_.front()));
   if (!options_.fps) {
@@ -127,7 +128,8 @@ FrameMesh Sequence::load(std::size_t index, CleanReport* report) const {
               .adaptivity = options_.vdb_adaptivity};
   read.clean = false;  // cleaning renumbers vertices: derive velocities first
   FrameMesh mesh = read_frame(path, read);
-  if (velocity_pattern_) mesh.velocities = read_vdb_velocities(velocity_pattern_->path(frame), read.vdb, mesh.positions);
+  if (velocity_pattern_)
+    mesh.velocities = read_vdb_velocities(velocity_pattern_->path(frame), read.vdb, mesh.positions);
 
   if (options_.velocity_from_positions && frames_.size() > 1) {
     const std::size_t lo = index > 0 ? index - 1 : index;

@@ -398,7 +398,7 @@ class PatchTexturing final : public Texturing {
   bool resumed_;                    // the tracker comes from a state: its radius from an earlier run's first frame
   mutable std::string last_state_;  // finish() runs serially, in frame order
   std::size_t failed_ = 0;
-  StepReport followed_;  // the counters of the steps into frames followed since the last written one
+  StepReport followed_;      // the counters of the steps into frames followed since the last written one
   double first_area_ = 0.0;  // of the first frame's surface (0 when resumed)
   int first_frame_ = 0;
   bool growth_warned_ = false;

@@ -100,8 +100,8 @@ FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
   const Vec3 centre(scene.drop_xy.x(), scene.drop_xy.y(), z);
   const Vec3 lo = scene.pool.lo().cwiseMin(centre - Vec3::Constant(scene.radius));
   const Vec3 hi = scene.pool.hi().cwiseMax(centre + Vec3::Constant(scene.radius));
-  FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, z); }, lo, hi,
-                                       volume_voxel_size(options));
+  FrameMesh mesh =
+      mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, z); }, lo, hi, volume_voxel_size(options));
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     mesh.velocities[v] = scene.velocity(mesh.positions[v], z, vz);
   }

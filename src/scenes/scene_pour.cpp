@@ -58,17 +58,13 @@ struct PourScene {
   }
   double jet_radius(double z) const { return nozzle_radius * std::sqrt(nozzle_speed / jet_speed(z)); }
   /// Height of the jet's front at time t (it leaves the nozzle at t = 0).
-  double front(double t) const {
-    return std::max(nozzle - nozzle_speed * t - 0.5 * gravity * t * t, jet_bottom);
-  }
+  double front(double t) const { return std::max(nozzle - nozzle_speed * t - 0.5 * gravity * t * t, jet_bottom); }
   /// Time at which the front reaches the pool's starting level.
   double landing() const {
     return (-nozzle_speed + std::sqrt(nozzle_speed * nozzle_speed + 2.0 * gravity * nozzle)) / gravity;
   }
   double flux() const { return M_PI * nozzle_radius * nozzle_radius * nozzle_speed; }
-  double rise_speed(double t) const {
-    return t > landing() ? flux() / pool.area() : 0.0;
-  }
+  double rise_speed(double t) const { return t > landing() ? flux() / pool.area() : 0.0; }
   double level(double t) const { return rise_speed(t) * std::max(0.0, t - landing()); }
 
   /// Signed distance to the jet at time t (approximate: the radius changes
@@ -81,7 +77,8 @@ struct PourScene {
     const double radial = rho - jet_radius(std::clamp(p.z(), tip, nozzle));
     const double axial = std::max(p.z() - nozzle, tip - p.z());
     if (on_cap) *on_cap = p.z() > nozzle - 0.5 * nozzle_radius && axial > radial;
-    const double column = std::min(std::max(radial, axial), 0.0) + Vec2(std::max(radial, 0.0), std::max(axial, 0.0)).norm();
+    const double column =
+        std::min(std::max(radial, axial), 0.0) + Vec2(std::max(radial, 0.0), std::max(axial, 0.0)).norm();
     const double sphere = std::max(Vec2(rho, p.z() - tip).norm() - r_front, p.z() - nozzle);
     return std::min(column, sphere);
   }
@@ -120,8 +117,7 @@ FrameMesh make_pour_frame(int frame, const SceneOptions& options) {
   const PourScene scene;
   const double t = frame_time(frame, options);
   FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, t); }, scene.pool.lo(),
-                                       scene.pool.hi(scene.nozzle),
-                                       volume_voxel_size(options));
+                                       scene.pool.hi(scene.nozzle), volume_voxel_size(options));
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.velocities[v] = scene.velocity(mesh.positions[v], t);
   return mesh;
 }

@@ -361,9 +361,8 @@ FrameMesh make_stream(const SceneOptions& options) {
   const double L = kStreamHalfLength, W = kStreamHalfWidth, U = kStreamSpeed;
   const Vec2 lo(-L, -W), hi(L, W);
   const double h = 2.0 * L / options.resolution;
-  FrameMesh mesh = mesh_implicit_2d(
-      [&](const Vec2& p) { return std::max(std::abs(p.x()) - L, std::abs(p.y()) - W); }, lo - Vec2::Constant(h),
-      hi + Vec2::Constant(h), h);
+  FrameMesh mesh = mesh_implicit_2d([&](const Vec2& p) { return std::max(std::abs(p.x()) - L, std::abs(p.y()) - W); },
+                                    lo - Vec2::Constant(h), hi + Vec2::Constant(h), h);
   set_velocities(mesh, [&](const Vec2&) { return Vec2(U, 0.0); });
   return mesh;
 }
@@ -378,7 +377,7 @@ struct RockFlow {
   }
   double implicit(const Vec2& p) const {
     const double r2 = std::max(p.squaredNorm(), 1e-12);
-    const double psi = p.y() * (1.0 - a * a / r2);       // divided by U
+    const double psi = p.y() * (1.0 - a * a / r2);              // divided by U
     const double grad = std::max(velocity(p).norm() / U, 0.3);  // |grad psi| / U
     const double wall = (std::abs(psi) - W) / grad;
     return std::max({wall, a - std::sqrt(r2), std::abs(p.x()) - L});
@@ -425,8 +424,10 @@ void validate(const std::string& scene, const SceneOptions& options) {
     throw InputError("", "unknown format '" + options.format + "' (known: ply, vdb)");
   }
   if (options.format == "vdb" && !listed(kVolumeScenes, scene)) {
-    throw InputError("", "scene '" + scene + "' is a flat open sheet, which a level set cannot hold: --format vdb "
-                         "is for the 3D scenes (" + name_list(kVolumeScenes) + ")");
+    throw InputError("", "scene '" + scene +
+                             "' is a flat open sheet, which a level set cannot hold: --format vdb "
+                             "is for the 3D scenes (" +
+                             name_list(kVolumeScenes) + ")");
   }
   if (options.staggered && options.format != "vdb") throw InputError("", "--staggered needs --format vdb");
 }

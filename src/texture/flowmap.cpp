@@ -8,8 +8,8 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 
-#include "fluidtex/util/error.h"
 #include "fluidtex/util/check.h"
+#include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
 #include "fluidtex/util/timing.h"
 

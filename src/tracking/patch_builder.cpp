@@ -74,8 +74,8 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     if (failure) *failure = why;
     return std::nullopt;
   };
-  const std::vector<int> faces = select_patch_faces(surface, center, (1.0 + options.selection_margin) * options.d(),
-                                                    options.patch_vertex_angle);
+  const std::vector<int> faces =
+      select_patch_faces(surface, center, (1.0 + options.selection_margin) * options.d(), options.patch_vertex_angle);
   if (faces.empty()) return fail("empty selection");
 
   DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk

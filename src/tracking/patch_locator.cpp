@@ -125,7 +125,7 @@ TrianglePrism::TrianglePrism(const Patch& patch, const Tri& t, double tolerance)
   height_ = tolerance + margin;
   reach_ = projection_slack(tolerance) + margin;
   checked_ = std::isfinite(height_) && normal_.allFinite() && inward_[0].allFinite() && inward_[1].allFinite() &&
-           inward_[2].allFinite();
+             inward_[2].allFinite();
 }
 
 // Triangles are kept in levels by size: level k holds the triangles whose

@@ -52,9 +52,7 @@ std::vector<SurfaceSample> surface_candidates(const SurfaceIndex& surface, doubl
     SurfaceSample sample;
   };
   std::vector<Keyed> keyed;
-  keyed.reserve(static_cast<std::size_t>(
-                    density * surface.area()) +
-                mesh.positions.size() + 16);
+  keyed.reserve(static_cast<std::size_t>(density * surface.area()) + mesh.positions.size() + 16);
   auto key = [&](std::uint64_t a, std::uint64_t b) {
     return hash_values({seed, static_cast<std::uint64_t>(Stream::CandidateOrder), a, b});
   };

@@ -71,7 +71,8 @@ SurfaceChange measure_surface_change(const SurfaceIndex& previous, const Surface
     for (std::size_t g = 0; g < nf_to; ++g) {
       const Vec3 q = (centres[g] / cell).array().floor();
       std::uint64_t key = 0;
-      for (int a = 0; a < 3; ++a) key = key * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(static_cast<std::int64_t>(q[a]));
+      for (int a = 0; a < 3; ++a)
+        key = key * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(static_cast<std::int64_t>(q[a]));
       std::vector<int>& reps = cells[key];
       const auto same = std::find_if(reps.begin(), reps.end(), [&](int r) {
         return normals[r].dot(normals[g]) > plane_angle && (centres[r] / cell).array().floor().matrix() == q;
@@ -101,25 +102,27 @@ SurfaceChange measure_surface_change(const SurfaceIndex& previous, const Surface
   };
   const std::vector<double>& next_area = next.face_areas();
   const std::vector<double>& from_area = previous.face_areas();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, evaluated.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<int> hits;
-    for (std::size_t e = r.begin(); e != r.end(); ++e) {
-      const int g = evaluated[e];
-      const Vec3& n = normals[g];
-      double here = 0.0, arrived = 0.0;
-      // The trees' order is the same on every run: a fixed summation order.
-      next_index.within(centres[g], radius, hits);
-      for (int h : hits) {
-        if (normals[h].dot(n) > plane_angle) here += next_area[h] * kernel(centres[h], centres[g]);
-      }
-      carried_index.within(centres[g], radius, hits);
-      for (int h : hits) {
-        if (landed_normal[h].dot(n) > plane_angle) arrived += from_area[h] * kernel(landed[h], centres[g]);
-      }
-      const double change = std::log((here + floor) / (arrived + floor)) / frames;
-      out.rate[g] = static_cast<float>(std::clamp(change, -kMaxSurfaceChange, kMaxSurfaceChange));
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, evaluated.size()),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<int> hits;
+                      for (std::size_t e = r.begin(); e != r.end(); ++e) {
+                        const int g = evaluated[e];
+                        const Vec3& n = normals[g];
+                        double here = 0.0, arrived = 0.0;
+                        // The trees' order is the same on every run: a fixed summation order.
+                        next_index.within(centres[g], radius, hits);
+                        for (int h : hits) {
+                          if (normals[h].dot(n) > plane_angle) here += next_area[h] * kernel(centres[h], centres[g]);
+                        }
+                        carried_index.within(centres[g], radius, hits);
+                        for (int h : hits) {
+                          if (landed_normal[h].dot(n) > plane_angle)
+                            arrived += from_area[h] * kernel(landed[h], centres[g]);
+                        }
+                        const double change = std::log((here + floor) / (arrived + floor)) / frames;
+                        out.rate[g] = static_cast<float>(std::clamp(change, -kMaxSurfaceChange, kMaxSurfaceChange));
+                      }
+                    });
   for (std::size_t g = 0; g < nf_to; ++g) out.rate[g] = out.rate[representative[g]];
   return out;
 }

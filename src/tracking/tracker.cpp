@@ -126,7 +126,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
   const std::vector<SurfaceSample> fresh = poisson_update(*surface, samples, frame, report, bare_faces);  // 3
   add_patches(*surface, fresh, frame, report);
   std::vector<int> vacated = fade(*surface, change ? &*change : nullptr, report);  // 4
-  weigh(report);                                      // 5
+  weigh(report);                                                                   // 5
   if (settings_.coverage_aware) {
     if (!started_) {
       bare_faces.resize(surface->mesh().triangles.size());

@@ -344,8 +344,8 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     p.positions.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
     bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
-              (p.recovery.empty() || p.recovery.size() == nv) &&
-              p.rest.size() == p.triangles.size() && close_frames >= 0 && std::isfinite(p.sunk) && known;
+              (p.recovery.empty() || p.recovery.size() == nv) && p.rest.size() == p.triangles.size() &&
+              close_frames >= 0 && std::isfinite(p.sunk) && known;
     for (const Tri& tri : p.triangles) {
       for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
     }

@@ -23,11 +23,11 @@
 #include <sstream>
 #include <thread>
 
+#include "cli_server.h"
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
-#include "cli_server.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -63,9 +63,9 @@ Outcome run_limited(const std::vector<std::string>& args, const fs::path& cwd, d
   const unsigned cpu_seconds = kSanitized ? 600u : 120u;
   Outcome r;
   int status = 0;
-  const test::Command command = test::spawn_command_line(
-      args, {cwd, out_file, err_file, executable ? fs::path(FLUIDTEX_EXE) : fs::path(),
-             kSanitized ? 0 : static_cast<std::uint64_t>(memory), cpu_seconds});
+  const test::Command command =
+      test::spawn_command_line(args, {cwd, out_file, err_file, executable ? fs::path(FLUIDTEX_EXE) : fs::path(),
+                                      kSanitized ? 0 : static_cast<std::uint64_t>(memory), cpu_seconds});
   if (!test::wait_command_line(command, wall_seconds, status)) {
     ::kill(command.pid, SIGKILL);
     test::wait_command_line(command, 1e6, status);
@@ -200,7 +200,7 @@ Case vdb_case(const std::string& name, std::vector<std::string> extra,
             fs::rename(dir / "drop.0002.vdb", dir / "d.0002.vdb");
             if (damage) test::write_file(dir / "d.0001.vdb", damage(test::read_file(dir / "d.0001.vdb")));
             write_image((dir / "ex.png").string(), make_exemplar("gravel", 32, 1));
-            std::vector<std::string> args{"run", "-q", "-i",           "d.####.vdb", "-e",
+            std::vector<std::string> args{"run",    "-q", "-i",  "d.####.vdb",   "-e",
                                           "ex.png", "-o", "out", "--atlas-size", "256"};
             args.insert(args.end(), extra.begin(), extra.end());
             return args;
@@ -214,9 +214,8 @@ void add_vdb_cases(std::vector<Case>& c) {
   c.push_back(vdb_case("vdb_empty", {}, [](const std::string&) { return std::string(); }));
   // Cut anywhere: in the header, in either grid's descriptor or data.
   for (int eighth = 1; eighth < 8; ++eighth) {
-    c.push_back(vdb_case("vdb_cut_" + std::to_string(eighth) + "_of_8", {}, [eighth](const std::string& bytes) {
-      return bytes.substr(0, bytes.size() * eighth / 8);
-    }));
+    c.push_back(vdb_case("vdb_cut_" + std::to_string(eighth) + "_of_8", {},
+                         [eighth](const std::string& bytes) { return bytes.substr(0, bytes.size() * eighth / 8); }));
   }
   c.push_back(vdb_case("vdb_cut_in_header", {}, [](const std::string& bytes) { return bytes.substr(0, 60); }));
   c.push_back(vdb_case("vdb_no_such_surface", {"--vdb-surface", "phi"}, {}));

@@ -487,7 +487,7 @@ TEST(MeshClean, ReadFrameMergesDuplicateVerticesFromFile) {
 
 // --- Real data -------------------------------------------------------------------------
 
-TEST(MeshIo, RealBlenderDropSequence) {
+TEST(RealData, ReadsTheBlenderDropSequence) {
   const std::filesystem::path dir = FLUIDTEX_SOURCE_DIR "/../shared/realdata/blender-drop";
   if (!std::filesystem::exists(dir / "drop.0001.ply")) GTEST_SKIP() << "no real data at " << dir;
   int frames = 0;

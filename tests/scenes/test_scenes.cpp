@@ -147,7 +147,8 @@ TEST(Scenes, NamesAndErrors) {
     make_scene_frame("vortex", 1, opts(8));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "unknown scene 'vortex' (known: rotation, split, merge, drop, pour, stream, stream-rock)");
+    EXPECT_EQ(std::string(e.what()),
+              "unknown scene 'vortex' (known: rotation, split, merge, drop, pour, stream, stream-rock)");
   }
   SceneOptions bad = opts(8);
   bad.frames = 0;

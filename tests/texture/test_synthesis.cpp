@@ -297,8 +297,8 @@ TEST(Synthesis, WeightCutoffDropsWeakPatchesContinuously) {
       exemplar.sample(0.7 + cb * q.x() - sb * q.y(), 0.15 + sb * q.x() + cb * q.y(), b);
       for (int c = 0; c < 3; ++c) {
         const double m = exemplar.mean()[c];
-        const double expect = std::clamp(
-            (wa * (a[c] - m) + wb * (b[c] - m)) / std::sqrt(wa * wa + wb * wb) + m, 0.0, 1.0);  // Eq. 7
+        const double expect =
+            std::clamp((wa * (a[c] - m) + wb * (b[c] - m)) / std::sqrt(wa * wa + wb * wb) + m, 0.0, 1.0);  // Eq. 7
         worst = std::max(worst, std::abs(double(r.color.pixels[i * 3 + c]) - expect));
       }
     }

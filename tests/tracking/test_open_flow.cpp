@@ -24,8 +24,8 @@ constexpr double kEdge = 1.5;  // the streams' window is [-1.5, 1.5] in x
 
 struct FlowRun {
   double d = 0.0;
-  std::vector<int> live;                              // patches per frame
-  std::vector<int> fading_out;                        // of those, fading out
+  std::vector<int> live;                               // patches per frame
+  std::vector<int> fading_out;                         // of those, fading out
   std::vector<std::pair<int, Vec3>> births, removals;  // (frame, centre)
 };
 

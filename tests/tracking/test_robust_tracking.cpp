@@ -818,8 +818,7 @@ TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowFadesOutOnTheRim) {
   o.distorted = Distorted::Recut;
   for (const double beyond : {2.0 * o.mpt(), 0.5 * o.mpt()}) {
     const double shift = 0.05 + beyond;  // the centre starts 0.05 inside the edge
-    const FrameMesh flow =
-        test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return Vec3(24 * shift, 0, 0); });
+    const FrameMesh flow = test::flat_grid(40, 1.0, 0.0, 0.0, 0.0, [&](const Vec3&) { return Vec3(24 * shift, 0, 0); });
     const SurfaceIndex previous(flow), next(flow);
     SurfaceSample c;
     c.point = previous.closest_point(Vec3(0.95, 0.5, 0));

@@ -55,7 +55,7 @@ TEST(SurfaceChange, AStreamThroughAFixedWindowMakesSurfaceAtItsInflowAndDestroys
     if (c.x() > 0.97) outflow = std::min(outflow, r);
     if (c.x() > 2 * kRadius && c.x() < 1 - 2 * kRadius) middle = std::max(middle, std::abs(r));
   }
-  EXPECT_GT(inflow, kChangeClassEdges.back());  // a strong source
+  EXPECT_GT(inflow, kChangeClassEdges.back());    // a strong source
   EXPECT_LT(outflow, kChangeClassEdges.front());  // a strong sink
   EXPECT_LT(middle, 0.005);
   EXPECT_EQ(change_class(inflow), kChangeClasses - 1);
@@ -95,7 +95,8 @@ TEST(SurfaceChange, TheTrackerCountsPatchesBirthsAndRemovalsWhereTheSurfaceIsMad
     // ball of radius d the change is measured in: the loss reads smaller.
     EXPECT_GT(step.change.lost, 0.5 * strip);
     EXPECT_LT(step.change.lost, 1.25 * strip);
-    for (int c = 0; c < kChangeClasses; ++c) sum.births[c] += step.change.births[c], sum.removals[c] += step.change.removals[c];
+    for (int c = 0; c < kChangeClasses; ++c)
+      sum.births[c] += step.change.births[c], sum.removals[c] += step.change.removals[c];
   }
   // The stream makes surface along its inflow, where disks are born, and
   // removes it along its outflow, where patches leave.

@@ -656,8 +656,8 @@ TEST(Tracker, StateFileErrors) {
   for (std::size_t h = 0; h < a.size(); ++h) {
     if (a[h].patch != b[h].patch || a[h].tri != b[h].tri || a[h].bary != b[h].bary || a[h].uv != b[h].uv ||
         a[h].weight != b[h].weight)
-      return ::testing::AssertionFailure() << "hit " << h << " differs (patch " << a[h].patch << " against "
-                                           << b[h].patch << ")";
+      return ::testing::AssertionFailure()
+             << "hit " << h << " differs (patch " << a[h].patch << " against " << b[h].patch << ")";
   }
   return ::testing::AssertionSuccess();
 }

@@ -138,11 +138,11 @@ struct EvalOptions {
   std::string exemplar;  ///< -e; empty = the run's (from OUT/job.toml)
   int samples = 20000;   ///< warping-error sample points per frame pair
   std::uint64_t seed = 1;
-  int flow_width = 512;   ///< render width for the optical-flow metric (0 = off)
+  int flow_width = 512;                       ///< render width for the optical-flow metric (0 = off)
   double flow_max_motion = kFlowMaxMotionPx;  ///< pixels per frame; faster pixels are left out of the slow_ flow means
-  int report_images = 4;  ///< preview images in the report
-  RenderOptions render;   ///< camera of the flow renders and report images
-  EvalThresholds thresholds;  ///< the verdict's good / warn / bad bounds
+  int report_images = 4;                      ///< preview images in the report
+  RenderOptions render;                       ///< camera of the flow renders and report images
+  EvalThresholds thresholds;                  ///< the verdict's good / warn / bad bounds
 };
 
 struct EvalSummary {

@@ -52,7 +52,7 @@ struct Patch {
   /// shows, starting at what the patch showed there before the recut and
   /// rising to 1 as a fading-in K_t does; empty when every vertex shows it all.
   std::vector<float> recovery;
-  std::vector<float> weight;         ///< w_V = K_S·K_t per vertex (Eq. 2)
+  std::vector<float> weight;  ///< w_V = K_S·K_t per vertex (Eq. 2)
 
   double max_distortion = 1.0;  ///< max D_T over the triangles at the last update
   /// Σ over the triangles at creation of seen_weight(): what the whole disk

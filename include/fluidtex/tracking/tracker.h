@@ -79,16 +79,16 @@ struct RetiredPatch {
 struct StepReport {
   int frame = 0;
   PatchCounts counts;
-  int created = 0;                    ///< new patches this frame (refilled ones included)
-  int refilled = 0;                   ///< of those, made by the coverage safety net (refill_bare_faces)
-  int relaxed = 0;                    ///< live patches whose uv relaxed (stretched beyond the yield; relax-frames)
-  int recut = 0;                      ///< patches found too distorted and cut again in place (--distorted recut)
-  int regrown = 0;                    ///< live patches cut again to cover bare surface by their disk (--gap-fill recut)
+  int created = 0;   ///< new patches this frame (refilled ones included)
+  int refilled = 0;  ///< of those, made by the coverage safety net (refill_bare_faces)
+  int relaxed = 0;   ///< live patches whose uv relaxed (stretched beyond the yield; relax-frames)
+  int recut = 0;     ///< patches found too distorted and cut again in place (--distorted recut)
+  int regrown = 0;   ///< live patches cut again to cover bare surface by their disk (--gap-fill recut)
   std::array<int, kRetireCauses> recut_causes{};  ///< of those, by the rule that would have retired them
-  int removed = 0;                    ///< patches removed (faded out or lost)
-  int lost = 0;                       ///< of those, lost in advection (centre beyond mpt, no triangle left)
-  int failed = 0;                     ///< disks whose patch could not be built (logged in aggregate)
-  std::vector<RetiredPatch> retired;  ///< patches flagged or lost this step, in id order
+  int removed = 0;                                ///< patches removed (faded out or lost)
+  int lost = 0;                                   ///< of those, lost in advection (centre beyond mpt, no triangle left)
+  int failed = 0;                                 ///< disks whose patch could not be built (logged in aggregate)
+  std::vector<RetiredPatch> retired;              ///< patches flagged or lost this step, in id order
   std::size_t patch_vertices = 0;
   /// Where the step made and destroyed surface (surface_change.h), and the
   /// patches, births and removals there; not measured on the first frame.
@@ -164,8 +164,8 @@ class Tracker {
   /// again, the box its coverage can have changed in: the bounding box of
   /// its old and new vertices, grown by twice the projection tolerance.
   std::vector<BBox> regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
-                        const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
-                        StepReport& report);
+                                     const std::vector<char>& uncovered, const std::vector<char>& live_mask, int frame,
+                                     StepReport& report);
   void add_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame, StepReport& report);
   void build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
                      StepReport& report);
