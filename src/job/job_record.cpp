@@ -19,39 +19,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Options that do not change what a job writes (or where): a resumed run
-/// may give them differently. The exemplar is compared by content, the
-/// input by content too (the newest state is loaded against its frame's mesh
-/// read from the input given, whose fingerprint it holds: a cache mounted
-/// elsewhere continues the job, another cache is refused), and the frames
-/// by their own rule.
-bool outside_contract(const std::string& name) {
-  static const std::set<std::string> names = {"output",      "resume", "force",    "keep-state", "threads",
-                                              "debug-views", "frames", "exemplar", "input",      "velocity-vdb"};
-  return names.count(name) > 0;
-}
-
 /// A path as a resumed run compares it: absolute, normalised.
 std::string comparable_path(const std::string& path) {
   if (path.empty()) return path;
   return fs::absolute(fs::path(path)).lexically_normal().string();
 }
 
-/// The options that name files: compared as absolute paths, and left out
-/// of the settings hash (the same job run in another folder stamps the same).
-bool is_path_option(const std::string& name) {
-  return name == "input" || name == "velocity-vdb" || name == "atlas" || name == "mesh" ||
-         name == "displacement-atlas" || name == "normal-atlas";
+bool is_path(const OptionRef& ref) {
+  return ref.info.role == OptionRole::OutputPath || ref.info.role == OptionRole::InputPath;
 }
 
-/// The value of option `name` of `o` as the contract compares it.
-std::string contract_value(const JobOptions& o, const OptionRef& ref) {
-  const std::string name = ref.info.name;
-  if (name == "input") return comparable_path(o.input.pattern);
-  if (name == "atlas") return comparable_path(o.output.atlas());
-  if (name == "mesh") return comparable_path(o.output.mesh());
-  if (is_path_option(name)) return comparable_path(ref.text());
-  return ref.text();
+/// The options as --resume compares them: the output patterns resolved
+/// against the job's folder (an empty pattern is the default name there).
+JobOptions with_resolved_outputs(JobOptions o) {
+  o.output.atlas_pattern = o.output.atlas();
+  o.output.mesh_pattern = o.output.mesh();
+  return o;
 }
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
@@ -90,10 +73,7 @@ std::string settings_hash(const JobRecord& record) {
   add("version", record.version);
   add("exemplar-sha1", record.exemplar_sha1);
   for (const OptionRef& ref : option_table(o)) {
-    const std::string name = ref.info.name;
-    // Paths, and whether the frames were textured in the run or by synth.
-    if (outside_contract(name) || is_path_option(name) || name == "track-only") continue;
-    add(name, ref.text());
+    if (ref.info.role == OptionRole::Method) add(ref.info.name, ref.text());
   }
   return lower_case_digest(sha);
 }
@@ -106,11 +86,8 @@ JobRecord make_job_record(const JobOptions& options, const std::vector<int>& fra
   record.options.output.resume = false;
   record.options.output.force = false;
   // Absolute paths: a synth step or a resume may start in another folder.
-  for (std::string* path :
-       {&record.options.input.pattern, &record.options.input.velocity_vdb, &record.options.exemplar,
-        &record.options.output.dir, &record.options.output.atlas_pattern, &record.options.output.mesh_pattern,
-        &record.options.output.displacement_pattern, &record.options.output.normal_pattern}) {
-    *path = comparable_path(*path);
+  for (const OptionRef& ref : option_table(record.options)) {
+    if (is_path(ref) && !ref.text().empty()) ref.set({comparable_path(ref.text())});
   }
   record.version = version_line();
   if (!options.exemplar.empty()) record.exemplar_sha1 = file_sha1(options.exemplar, "exemplar");
@@ -166,11 +143,15 @@ void check_resumable(const JobRecord& job, const JobRecord& given) {
   }
   JobOptions a = job.options, b = given.options;  // the tables bind mutable fields
   a.output.dir = b.output.dir;                    // the job is the one in this folder, however it is spelled
+  a = with_resolved_outputs(a), b = with_resolved_outputs(b);
   const std::vector<OptionRef> ta = option_table(a), tb = option_table(b);
   for (std::size_t i = 0; i < ta.size(); ++i) {
+    const OptionRole role = ta[i].info.role;
+    if (role == OptionRole::InputPath || role == OptionRole::Free) continue;
     const std::string name = ta[i].info.name;
-    if (outside_contract(name)) continue;
-    const std::string va = contract_value(a, ta[i]), vb = contract_value(b, tb[i]);
+    const bool as_path = role == OptionRole::OutputPath;
+    const std::string va = as_path ? comparable_path(ta[i].text()) : ta[i].text();
+    const std::string vb = as_path ? comparable_path(tb[i].text()) : tb[i].text();
     if (va == vb) continue;
     throw InputError(path, "--" + name + " differs from the job's: " + quoted(vb) + " given, " + quoted(va) +
                                " in the job" + restart);

@@ -56,9 +56,13 @@ struct InputOptions {
   static void for_each_option(Self& o, F&& f) {
     f(OptionInfo{.name = "input",
                  .help = "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply",
-                 .alias = "-i"},
+                 .alias = "-i",
+                 .role = OptionRole::InputPath},
       o.pattern);
-    f(OptionInfo{.name = "frames", .help = "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)"}, o.frames);
+    f(OptionInfo{.name = "frames",
+                 .help = "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)",
+                 .role = OptionRole::Free},
+      o.frames);
     f(OptionInfo{.name = "skipped-frames",
                  .help = "Frames a stepped range skips: follow (track through them, each written frame the every-frame "
                          "run's) or ignore"},
@@ -91,7 +95,8 @@ struct InputOptions {
       o.vdb_adaptivity);
     f(OptionInfo{.name = "velocity-vdb",
                  .help = "Take each frame's velocities from this VDB frame pattern (same frame numbers), "
-                         "sampled at the mesh's vertices"},
+                         "sampled at the mesh's vertices",
+                 .role = OptionRole::InputPath},
       o.velocity_vdb);
   }
   void validate() const;

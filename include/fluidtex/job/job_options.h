@@ -54,33 +54,44 @@ struct OutputOptions {
 
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
-    f(OptionInfo{.name = "output", .help = "Output folder (required)", .alias = "-o"}, o.dir);
-    f(OptionInfo{.name = "atlas", .help = "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)"},
+    f(OptionInfo{.name = "output", .help = "Output folder (required)", .alias = "-o", .role = OptionRole::OutputPath},
+      o.dir);
+    f(OptionInfo{.name = "atlas",
+                 .help = "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)",
+                 .role = OptionRole::OutputPath},
       o.atlas_pattern);
-    f(OptionInfo{.name = "mesh", .help = "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)"},
+    f(OptionInfo{.name = "mesh",
+                 .help = "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)",
+                 .role = OptionRole::OutputPath},
       o.mesh_pattern);
     f(OptionInfo{.name = "displacement-atlas",
                  .help = "Also write a height atlas (the colour's luminance, one channel, .exr) to this pattern, "
-                         "named by the OBJ's material as disp and bump"},
+                         "named by the OBJ's material as disp and bump",
+                 .role = OptionRole::OutputPath},
       o.displacement_pattern);
     f(OptionInfo{.name = "normal-atlas",
                  .help = "Also write a tangent-space normal atlas (from the height, --bump-height; .exr) to this "
-                         "pattern, named by the OBJ's material as norm"},
+                         "pattern, named by the OBJ's material as norm",
+                 .role = OptionRole::OutputPath},
       o.normal_pattern);
     f(OptionInfo{.name = "resume",
                  .help = "Continue the job in OUT after its last complete frame (refused when an option that "
-                         "changes the output, the exemplar or the build differs from OUT/job.toml)"},
+                         "changes the output, the exemplar or the build differs from OUT/job.toml)",
+                 .role = OptionRole::Free},
       o.resume);
     f(OptionInfo{.name = "force",
                  .help = "Replace the outputs of an earlier job in OUT (without it, a run into a folder that holds "
-                         "one is refused)"},
+                         "one is refused)",
+                 .role = OptionRole::Free},
       o.force);
     f(OptionInfo{.name = "keep-state",
                  .help = "Patch states kept in OUT/state/: all (fluidtex synth can texture any frame) or last (the "
-                         "newest, enough for --resume)"},
+                         "newest, enough for --resume)",
+                 .role = OptionRole::Free},
       o.keep_state);
     f(OptionInfo{.name = "debug-views",
-                 .help = "Write per-frame PLYs of the patches and of the disks coloured by state"},
+                 .help = "Write per-frame PLYs of the patches and of the disks coloured by state",
+                 .role = OptionRole::Free},
       o.debug_views);
   }
 };
@@ -141,7 +152,9 @@ struct SynthesisJobOptions {
                          "exemplar's size on the surface",
                  .bounds = above(0)},
       o.bump_height);
-    f(OptionInfo{.name = "track-only", .help = "Track patches only: state files and stats, no atlas or mesh"},
+    f(OptionInfo{.name = "track-only",
+                 .help = "Track patches only: state files and stats, no atlas or mesh",
+                 .role = OptionRole::Mode},
       o.track_only);
   }
   void validate() const;
@@ -210,11 +223,13 @@ void JobOptions::for_each_option(Self& o, F&& f) {
   f(OptionInfo{.name = "exemplar",
                .help = "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB and "
                        "linearised, float files as linear)",
-               .alias = "-e"},
+               .alias = "-e",
+               .role = OptionRole::InputPath},
     o.exemplar);
   f(OptionInfo{.name = "threads",
                .help = "Threads in all, image reading and writing included (0 = all cores)",
-               .bounds = at_least(0)},
+               .bounds = at_least(0),
+               .role = OptionRole::Free},
     o.threads);
   f(OptionInfo{.name = "seed", .help = "Random seed"}, o.seed);
   f(OptionInfo{.name = "method",

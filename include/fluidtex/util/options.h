@@ -43,13 +43,27 @@ constexpr Bounds between(double lo, double hi, bool lo_open = false, bool hi_ope
   return {lo, hi, lo_open, hi_open};
 }
 
+/// What an option is to a job's record (job/job_record.h): whether
+/// `run --resume` must give the job's value, whether it goes into the
+/// settings hash stamped in the atlases, and whether job.toml holds it as an
+/// absolute path. Declared with the option, so that a new option cannot
+/// change resume behaviour by being left off a list elsewhere.
+enum class OptionRole : std::uint8_t {
+  Method,      ///< changes what the job writes: compared at --resume and hashed (the default)
+  Mode,        ///< how this run makes the files (--track-only): compared at --resume, not hashed
+  OutputPath,  ///< where the job writes: absolute in job.toml, compared at --resume as a path, not hashed
+  InputPath,   ///< what the job reads, checked by content (mesh fingerprints, SHA-1): absolute in job.toml only
+  Free,        ///< changes nothing the job writes (threads, resume, frames by their own rule): neither
+};
+
 struct OptionInfo {
-  const char* name;          ///< long flag without "--", and the config key
-  const char* help;          ///< one line for --help and the config comment
-  Bounds bounds = {};        ///< numeric options
-  const char* alias = "";    ///< short flag, e.g. "-i"
-  const char* choices = "";  ///< comma list of the names a list option accepts
-  const char* group = "";    ///< --help section; empty: the section of the caller
+  const char* name;                      ///< long flag without "--", and the config key
+  const char* help;                      ///< one line for --help and the config comment
+  Bounds bounds = {};                    ///< numeric options
+  const char* alias = "";                ///< short flag, e.g. "-i"
+  const char* choices = "";              ///< comma list of the names a list option accepts
+  const char* group = "";                ///< --help section; empty: the section of the caller
+  OptionRole role = OptionRole::Method;  ///< what the option is to a job's record
 };
 
 /// InputError "--NAME ..." unless `field` satisfies `info`.
