@@ -8,7 +8,7 @@
 #include <OpenImageIO/hash.h>
 
 #include "fluidtex/io/frame_pattern.h"
-#include "fluidtex/job/pipeline.h"
+#include "fluidtex/job/job_layout.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/version.h"

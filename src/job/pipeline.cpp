@@ -18,6 +18,7 @@
 #include "fluidtex/io/stats.h"
 #include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/debug_views.h"
+#include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/texture/maps.h"
 #include "fluidtex/tracking/patch_locator.h"
@@ -29,31 +30,6 @@
 #include "fluidtex/util/version.h"
 
 namespace fluidtex {
-
-std::vector<std::string> frame_output_patterns(const JobOptions& options) {
-  std::vector<std::string> patterns = {options.output.atlas(), options.output.mesh()};
-  if (lower_extension(patterns[1]) == ".obj") patterns.push_back(material_pattern(patterns[1]));
-  for (const std::string& map : {options.output.displacement(), options.output.normal()}) {
-    if (!map.empty()) patterns.push_back(map);
-  }
-  for (const std::string& layer : options.synthesis.aov)
-    patterns.push_back(options.output.dir + "/aov/" + layer + ".####.exr");
-  return patterns;
-}
-
-std::string material_pattern(const std::string& obj_pattern) {
-  return std::filesystem::path(obj_pattern).replace_extension(".mtl").string();
-}
-
-void remove_frame_outputs(const JobOptions& options, int frame) {
-  std::error_code ec;
-  for (const std::string& pattern : frame_output_patterns(options))
-    std::filesystem::remove(FramePattern(pattern).path(frame), ec);
-}
-
-std::string state_pattern(const std::string& dir) { return dir + "/state/patches.####.bin"; }
-
-std::string state_path(const std::string& dir, int frame) { return FramePattern(state_pattern(dir)).path(frame); }
 
 Exemplar load_exemplar(const std::string& path, bool displacement) {
   Image image = read_image(path);
@@ -498,24 +474,6 @@ std::shared_ptr<Work> read_frame(const Sequence& sequence, std::size_t index, bo
 }
 
 }  // namespace
-
-std::size_t remove_interrupted_temporaries(const JobOptions& options,
-                                           const std::function<bool(const std::string&)>& owned) {
-  namespace fs = std::filesystem;
-  const fs::path out(options.output.dir);
-  std::size_t stale = 0;
-  std::vector<fs::path> dirs = {out,
-                                out / "state",
-                                out / "aov",
-                                out / "stats",
-                                fs::path(options.output.atlas()).parent_path(),
-                                fs::path(options.output.mesh()).parent_path()};
-  for (const std::string& map : {options.output.displacement(), options.output.normal()}) {
-    if (!map.empty()) dirs.push_back(fs::path(map).parent_path());
-  }
-  for (const fs::path& dir : dirs) stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
-  return stale;
-}
 
 namespace {
 

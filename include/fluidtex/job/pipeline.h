@@ -13,6 +13,7 @@
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
+#include "fluidtex/job/job_layout.h"  // the job's files, which every user of the run names
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/flowmap.h"
@@ -29,23 +30,6 @@ struct JobSummary {
   int resumed_after = -1;  ///< frame whose state the run resumed from, −1 if none
   double seconds = 0.0;
 };
-
-/// The patterns of the files a job writes per frame besides its state: the
-/// atlas, the UV mesh (and its material for an OBJ), the AOVs.
-std::vector<std::string> frame_output_patterns(const JobOptions& options);
-
-/// The material file next to an OBJ pattern (`mesh.####.obj` → `mesh.####.mtl`).
-std::string material_pattern(const std::string& obj_pattern);
-
-/// Removes the atlas, AOVs and UV mesh of `frame` (when its state could not
-/// be written: a frame is complete with its state, or absent).
-void remove_frame_outputs(const JobOptions& options, int frame);
-
-/// The state files of a job in `dir`: DIR/state/patches.####.bin.
-std::string state_pattern(const std::string& dir);
-
-/// The state file of `frame` under `dir`.
-std::string state_path(const std::string& dir, int frame);
 
 /// Reads frame `index` of `sequence`, cleaned (what cleaning did as a
 /// verbose message); fills the frame number, "read" seconds, vertex and face
@@ -76,12 +60,6 @@ void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& pat
 /// map, writers and stats, the texels from the two advected uv sets.
 void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
                               const JobOptions& options, int frame, FrameStats& stats, double tile_size);
-
-/// Removes the temporaries a killed run or synth left in the job's output
-/// folders (remove_stale_temporaries: this machine's dead writers', and
-/// other machines' whose target `owned` accepts). Returns how many.
-std::size_t remove_interrupted_temporaries(const JobOptions& options,
-                                           const std::function<bool(const std::string&)>& owned);
 
 /// Runs `f` (a stage of a frame pipeline) in a TBB context of its own. When
 /// one frame fails, TBB cancels the pipeline's context and with it every
