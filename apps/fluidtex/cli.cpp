@@ -207,10 +207,29 @@ void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
   });
 }
 
+/// A number from `lo` to `hi`. CLI11's Range lets NaN through ("nan" parses
+/// as a double and fails neither comparison); this refuses it.
+CLI::Validator number_between(double lo, double hi) {
+  const std::string range = option_detail::format_number(lo) + " to " + option_detail::format_number(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        double v = 0.0;
+        try {
+          std::size_t used = 0;
+          v = std::stod(text, &used);
+          if (used != text.size()) return "'" + text + "' is not a number";
+        } catch (const std::exception&) {
+          return "'" + text + "' is not a number";
+        }
+        return v >= lo && v <= hi ? std::string() : "must be from " + range + ", not " + text;
+      },
+      "from " + range);
+}
+
 /// --threads of a command that reads or writes frames (0: all cores).
 void add_threads_option(CLI::App* cmd, int& threads) {
   cmd->add_option("--threads", threads, "Threads in all, image reading and writing included (0 = all cores)")
-      ->check(CLI::Range(0, 4096))
+      ->check(number_between(0, 4096))
       ->capture_default_str();
 }
 
@@ -407,10 +426,14 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview->add_option("--camera", args->camera,
                       "Perspective camera EX,EY,EZ,TX,TY,TZ[,FOV]: eye, target, vertical field of view in "
                       "degrees (default 40); up is +z (+y when looking along z). Replaces --view");
-  preview->add_option("--width", args->options.render.width, "Image width in pixels")->capture_default_str();
-  preview->add_option("--height", args->options.render.height,
-                      "Image height of the perspective camera (default: width * 3/4; orthographic views "
-                      "follow the framing)");
+  preview->add_option("--width", args->options.render.width, "Image width in pixels")
+      ->check(number_between(1, 16384))
+      ->capture_default_str();
+  preview
+      ->add_option("--height", args->options.render.height,
+                   "Image height of the perspective camera (default: width * 3/4; orthographic views "
+                   "follow the framing)")
+      ->check(number_between(1, 16384));
   preview->add_option("--mesh", args->options.mesh_pattern, "UV mesh pattern, .obj or .ply (default: the run's)");
   preview->add_option("--atlas", args->options.atlas_pattern, "Atlas pattern (default: the run's)");
   preview
@@ -427,9 +450,11 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview
       ->add_option("--velocity-scale", args->options.velocity_scale,
                    "Velocity arrows are v * dt * K long (K frames of motion)")
+      ->check(number_between(1e-6, 1e6))
       ->capture_default_str()
       ->group("Overlays");
   preview->add_option("--arrow-spacing", args->options.arrow_spacing, "Pixels between velocity arrows")
+      ->check(number_between(1, 16384))
       ->capture_default_str()
       ->group("Overlays");
   preview
@@ -459,8 +484,7 @@ void add_eval(CLI::App& app, int& exit_code) {
   struct EvalArgs {
     EvalOptions eval;
     std::string view = enum_name(RenderOptions{}.view);
-    int verbosity = 0;
-    bool quiet = false;
+    ConsoleArgs console;
     int threads = 0;
     bool check = false;
     std::string thresholds_file;
@@ -475,28 +499,31 @@ void add_eval(CLI::App& app, int& exit_code) {
   cmd->add_option("--frames", args->eval.input.frames, "Frames to evaluate (default: the run's)");
   cmd->add_option("-e,--exemplar", args->eval.exemplar, "Exemplar (default: the run's, from job.toml)");
   cmd->add_option("--samples", args->eval.samples, "Warping-error sample points per frame pair")
-      ->check(CLI::Range(100, 10000000))
+      ->check(number_between(100, 10000000))
       ->capture_default_str();
   cmd->add_option("--seed", args->eval.seed, "Seed of the sample points")->capture_default_str();
   cmd->add_option("--flow-width", args->eval.flow_width, "Render width for the optical-flow metric (0: skip it)")
+      ->check(number_between(0, 8192))
       ->capture_default_str();
   cmd->add_option("--flow-max-motion", args->eval.flow_max_motion,
                   "Projected motion (pixels per frame of the flow renders) from which a pixel is left out of the "
                   "flow_slow_ figures: the optical flow is unreliable beyond")
-      ->check(CLI::PositiveNumber)
+      ->check(number_between(1e-9, 1e9))
       ->capture_default_str();
-  cmd->add_option("--images", args->eval.report_images, "Preview images in the report")->capture_default_str();
+  cmd->add_option("--images", args->eval.report_images, "Preview images in the report")
+      ->check(number_between(0, 1000))
+      ->capture_default_str();
   cmd->add_option("--view", args->view, "Orthographic view of the renders: top, front, side")
       ->check(CLI::IsMember(enum_choices<View>()))
       ->capture_default_str();
   add_threads_option(cmd, args->threads);
-  cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
-  cmd->add_flag("-q,--quiet", args->quiet, "Only warnings and errors");
+  for (const OptionRef& ref : args->console.options()) add_table_option(cmd, ref);
   cmd->add_flag("--check", args->check, "Exit 1 when the verdict is bad (a figure beyond its bad threshold), for CI");
   cmd->add_option("--thresholds", args->thresholds_file,
                   "TOML file of verdict thresholds, in its [eval] table (the options given here win)");
   for (const OptionRef& ref : option_table(args->eval.thresholds)) add_table_option(cmd, ref);
   cmd->callback([args, &exit_code, cmd]() {
+    ConsoleReporter reporter = args->console.open_reporter();
     if (!args->thresholds_file.empty()) {
       apply_config(read_config_file(args->thresholds_file, "eval"), option_table(args->eval.thresholds),
                    args->thresholds_file, [&](const std::string& name) { return cmd->count("--" + name) > 0; });
@@ -511,7 +538,6 @@ void add_eval(CLI::App& app, int& exit_code) {
     if (!frames.empty()) options.input.frames = frames;
     options.render.view = parse_enum<View>(args->view, "view");
     options.render.width = 384;
-    ConsoleReporter reporter(args->verbosity, args->quiet, LogFormat::Text);
     const auto threads = limit_threads(args->threads);
     const EvalSummary summary = run_eval(options, job, reporter);
     reporter.info("fluidtex eval: " + std::to_string(summary.frames) + " frames; report: " + summary.report);
@@ -528,8 +554,7 @@ void add_eval(CLI::App& app, int& exit_code) {
 void add_compare(CLI::App& app, int& exit_code) {
   struct CompareArgs {
     CompareOptions compare;
-    int verbosity = 0;
-    bool quiet = false;
+    ConsoleArgs console;
     int threads = 0;
   };
   auto args = std::make_shared<CompareArgs>();
@@ -540,28 +565,29 @@ void add_compare(CLI::App& app, int& exit_code) {
   cmd->add_option("golden", args->compare.golden, "The reference run's output folder")->required();
   cmd->add_option("new", args->compare.candidate, "The run to check")->required();
   cmd->add_option("--samples", args->compare.samples, "Surface points per frame")
-      ->check(CLI::Range(100, 10000000))
+      ->check(number_between(100, 10000000))
       ->capture_default_str();
   cmd->add_option("--seed", args->compare.seed, "Seed of the surface points")->capture_default_str();
   cmd->add_option("--mean-tolerance", args->compare.mean_tolerance,
                   "Largest mean colour difference per frame (linear, mean over channels)")
-      ->check(CLI::Range(0.0, 1e9))
+      ->check(number_between(0.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--percentile", args->compare.percentile, "Which percentile of the differences to bound")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(number_between(0.0, 100.0))
       ->capture_default_str();
   cmd->add_option("--percentile-tolerance", args->compare.percentile_tolerance,
                   "Largest value of that percentile per frame")
-      ->check(CLI::Range(0.0, 1e9))
+      ->check(number_between(0.0, 1e9))
       ->capture_default_str();
   add_threads_option(cmd, args->threads);
-  cmd->add_flag("-v,--verbose", args->verbosity, "More detail on stderr");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print only the verdict line");
+  for (const OptionRef& ref : args->console.options()) add_table_option(cmd, ref);
   cmd->callback([args, &exit_code]() {
-    ConsoleReporter reporter(args->verbosity, args->quiet, LogFormat::Text);
+    ConsoleReporter reporter = args->console.open_reporter();
     const auto threads = limit_threads(args->threads);
     const Comparison result = compare_runs(args->compare, reporter);
-    std::cout << (args->quiet ? comparison_verdict(result, args->compare) : format_comparison(result, args->compare));
+    // -q: the verdict line only.
+    std::cout << (args->console.quiet ? comparison_verdict(result, args->compare)
+                                      : format_comparison(result, args->compare));
     exit_code = result.passed ? 0 : 1;
   });
 }

@@ -151,6 +151,24 @@ TEST(Cli, RunRejectsBadOptionValues) {
   EXPECT_FALSE(fs::exists(dir.file("out")));
 }
 
+TEST(Cli, EveryNumberRefusesNaNAndValuesOutOfRange) {
+  // Checked while the command line is parsed: no folder is needed to be refused.
+  for (const char* args : {"compare a b --mean-tolerance nan", "compare a b --percentile nan",
+                           "compare a b --percentile-tolerance inf", "compare a b --samples 5",
+                           "preview r --velocity-scale nan", "preview r --width 0", "eval -o r --flow-max-motion nan",
+                           "eval -o r --images -1", "eval -o r --warping-bad nan", "eval -o r --threads nan"}) {
+    std::string out;
+    EXPECT_EQ(run_fluidtex(args, &out), 2) << args << ": " << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << args << ": " << out;
+  }
+  // compare and eval log as run and synth do.
+  std::string out;
+  EXPECT_EQ(run_fluidtex("compare nowhere elsewhere --log-format json", &out), 2);
+  EXPECT_EQ(out.rfind("{\"event\":\"error\"", 0), 0u) << out;
+  EXPECT_EQ(run_fluidtex("eval -o nowhere --log-format json", &out), 2);
+  EXPECT_EQ(out.rfind("{\"event\":\"error\"", 0), 0u) << out;
+}
+
 TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
   test::TempDir dir;
   std::string out;
