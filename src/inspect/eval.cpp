@@ -87,7 +87,7 @@ namespace {
 
 double luminance(const Image& image, std::size_t i) {
   const float* p = &image.pixels[i * image.channels];
-  return image.channels >= 3 ? 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2] : p[0];
+  return image.channels >= 3 ? rec709_luminance<double>(p[0], p[1], p[2]) : p[0];
 }
 
 }  // namespace

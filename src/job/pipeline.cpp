@@ -39,7 +39,7 @@ Exemplar load_exemplar(const std::string& path, bool displacement) {
     grey.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
     for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
       const float* p = &image.pixels[i * image.channels];
-      grey.pixels[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+      grey.pixels[i] = rec709_luminance(p[0], p[1], p[2]);
     }
     image = std::move(grey);
   } else if (displacement && image.channels == 2) {

@@ -11,7 +11,7 @@ Image height_map(const Image& colour) {
   Image height = Image::blank(colour.width, colour.height, 1);
   for (std::size_t i = 0; i < height.pixels.size(); ++i) {
     const float* p = colour.pixel(i);
-    height.pixels[i] = colour.channels >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
+    height.pixels[i] = colour.channels >= 3 ? rec709_luminance(p[0], p[1], p[2]) : p[0];
   }
   return height;
 }

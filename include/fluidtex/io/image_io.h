@@ -130,6 +130,14 @@ void sample_bilinear(const Image& image, double x, double y, float* out, int cha
 /// Largest images read_image accepts (a header may claim any size; this
 /// bounds the memory allocated before the pixels are seen): exemplars, and
 /// the atlases of finished runs (--atlas-size is at most 32768).
+/// Rec. 709 luminance of linear RGB (the primaries atlases and exemplars
+/// are read in): the height atlas, a displacement exemplar's grey and eval's
+/// spectra all take it.
+template <class T>
+constexpr T rec709_luminance(T r, T g, T b) {
+  return T(0.2126) * r + T(0.7152) * g + T(0.0722) * b;
+}
+
 inline constexpr long long kMaxImagePixels = 8192LL * 8192LL;
 inline constexpr long long kMaxAtlasPixels = 32768LL * 32768LL;
 inline constexpr int kMaxImageChannels = 16;
