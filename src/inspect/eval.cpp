@@ -748,19 +748,10 @@ Row summarize(const std::vector<Row>& rows, const std::vector<double>& lifetimes
   return summary;
 }
 
-/// The self-contained HTML report: summary, removal table, charts, frames.
-std::string html_report(const std::string& run_dir, const std::vector<Row>& rows, const Row& summary,
-                        const PatchHistory& history, const std::vector<std::string>& images, const Verdict& verdict,
-                        const std::vector<std::string>& worst_images) {
+/// The report's verdict: the figures with their grades and bounds, the
+/// frame ranges where one is bad, and their worst frames.
+std::string html_verdict(const Verdict& verdict, const std::vector<std::string>& worst_images) {
   std::ostringstream html;
-  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << run_dir
-       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
-          "10px;text-align:right}"
-          "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
-  html << "<h1>fluidtex eval</h1><p>Run: <code>" << run_dir << "</code>, " << rows.size()
-       << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
-          "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
-          "move, and random points).</p>";
   const char* colour[] = {"#2ca02c", "#e6a100", "#d62728"};
   html << "<h2>Verdict: <span style='color:" << colour[static_cast<int>(verdict.grade)] << "'>"
        << enum_name(verdict.grade) << "</span></h2><p>" << html_escape(verdict.line)
@@ -788,6 +779,23 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
            << verdict.ranges[i].worst << ": " << html_escape(verdict.ranges[i].line) << "</figcaption></figure>";
     }
   }
+  return html.str();
+}
+
+/// The self-contained HTML report: summary, removal table, charts, frames.
+std::string html_report(const std::string& run_dir, const std::vector<Row>& rows, const Row& summary,
+                        const PatchHistory& history, const std::vector<std::string>& images, const Verdict& verdict,
+                        const std::vector<std::string>& worst_images) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << run_dir
+       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
+          "10px;text-align:right}"
+          "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
+  html << "<h1>fluidtex eval</h1><p>Run: <code>" << run_dir << "</code>, " << rows.size()
+       << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
+          "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
+          "move, and random points).</p>";
+  html << html_verdict(verdict, worst_images);
   html << "<h2>Summary</h2><p>Means over the frames measured (metrics.jsonl has every frame).</p><table>";
   for (const auto& [k, v] : summary) html << "<tr><th>" << k << "</th><td>" << number(v) << "</td></tr>";
   html << "</table><h2>Why patches leave</h2><p>Patches flagged to fade out or lost, by the rule that fired "
@@ -866,6 +874,26 @@ TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string
   }
   return TexturedFrame(read_uv_mesh(mesh_path), std::move(atlas));
 }
+
+namespace {
+
+/// The worst frame of each range where a figure is bad (at most
+/// kWorstImages), rendered to DIR/worst.####.png for the report.
+std::vector<std::string> render_worst_frames(const Verdict& verdict, const std::string& atlas_pattern,
+                                             const std::string& mesh_pattern, const std::string& dir,
+                                             const RenderOptions& render) {
+  std::vector<std::string> images;
+  for (const VerdictRange& r : verdict.ranges) {
+    if (static_cast<int>(images.size()) == kWorstImages) break;
+    const std::string png = FramePattern(dir + "/worst.####.png").path(r.worst);
+    const TexturedFrame frame = read_run_frame(atlas_pattern, mesh_pattern, r.worst);
+    write_image(png, render_textured(frame.mesh, frame.atlas, render), ImageWriteOptions{});
+    images.push_back(png);
+  }
+  return images;
+}
+
+}  // namespace
 
 EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
   JobOptions job = job_in;
@@ -947,15 +975,8 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
   EvalSummary out{rows.size(), dir + "/report.html", judge(rows, options.thresholds)};
   write_text_atomically(dir + "/verdict.json", verdict_json(out.verdict));
-  // The worst frame of each range where a figure is bad, rendered for the report.
-  std::vector<std::string> worst_images;
-  for (const VerdictRange& r : out.verdict.ranges) {
-    if (static_cast<int>(worst_images.size()) == kWorstImages) break;
-    const std::string png = FramePattern(dir + "/worst.####.png").path(r.worst);
-    const TexturedFrame frame = read_run_frame(atlas_pattern, mesh_pattern, r.worst);
-    write_image(png, render_textured(frame.mesh, frame.atlas, options.render), ImageWriteOptions{});
-    worst_images.push_back(png);
-  }
+  const std::vector<std::string> worst_images =
+      render_worst_frames(out.verdict, atlas_pattern, mesh_pattern, dir, options.render);
   write_text_atomically(dir + "/report.html",
                         html_report(options.run_dir, rows, summary, history, images, out.verdict, worst_images));
   reporter.progress(sequence.size(), sequence.size(), "eval");

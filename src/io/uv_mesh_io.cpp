@@ -11,6 +11,7 @@
 #include "fluidtex/io/uv_mesh_io.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -320,21 +321,28 @@ double le_value(const char* at, plyio::PlyType t) {
 
 }  // namespace
 
-UVMesh read_uv_mesh_ply(const std::string& path) {
-  static_assert(std::endian::native == std::endian::little, "le_value reads little-endian values in place");
-  const std::string bytes = read_file_bytes(path);
-  const plyio::PlyHeader h = plyio::parse_ply_header(path, bytes);
+namespace {
+
+/// Where the properties of a UV mesh PLY's vertices are, once its header is
+/// known to be one (InputError naming the file otherwise).
+struct UvPlyLayout {
+  std::size_t stride = 0;
+  std::vector<std::size_t> offset;  // per vertex property
+  int x = -1, y = -1, z = -1, u = -1, v = -1;
+  std::array<int, 3> normal{-1, -1, -1}, velocity{-1, -1, -1};
+};
+
+UvPlyLayout uv_ply_layout(const std::string& path, const plyio::PlyHeader& h) {
   if (h.format != plyio::PlyFormat::BinaryLE)
     throw InputError(path, "UV mesh PLY is not binary_little_endian (the form fluidtex writes)");
   if (h.elements.size() != 2 || h.elements[0].name != "vertex" || h.elements[1].name != "face")
     throw InputError(path, "UV mesh PLY must hold a vertex element and then a face element");
   const plyio::PlyElement &ve = h.elements[0], &fe = h.elements[1];
-  std::vector<std::size_t> offset;
-  std::size_t stride = 0;
+  UvPlyLayout l;
   for (const plyio::PlyProperty& p : ve.properties) {
     if (p.is_list) throw InputError(path, "UV mesh PLY has a list property '" + p.name + "' in its vertices");
-    offset.push_back(stride);
-    stride += static_cast<std::size_t>(plyio::type_size(p.type));
+    l.offset.push_back(l.stride);
+    l.stride += static_cast<std::size_t>(plyio::type_size(p.type));
   }
   auto property = [&](const char* name) {
     const int i = ve.find(name);
@@ -344,11 +352,24 @@ UVMesh read_uv_mesh_ply(const std::string& path) {
                            (name[1] == '\0' && (name[0] == 'u' || name[0] == 'v') ? " (no texture coordinates)" : ""));
     return i;
   };
-  const int x = property("x"), y = property("y"), z = property("z"), u = property("u"), v = property("v");
-  const bool has_normal = ve.find("nx") >= 0 && ve.find("ny") >= 0 && ve.find("nz") >= 0;
-  const bool has_velocity = ve.find("vx") >= 0 && ve.find("vy") >= 0 && ve.find("vz") >= 0;
+  l.x = property("x"), l.y = property("y"), l.z = property("z"), l.u = property("u"), l.v = property("v");
+  if (ve.find("nx") >= 0 && ve.find("ny") >= 0 && ve.find("nz") >= 0)
+    l.normal = {ve.find("nx"), ve.find("ny"), ve.find("nz")};
+  if (ve.find("vx") >= 0 && ve.find("vy") >= 0 && ve.find("vz") >= 0)
+    l.velocity = {ve.find("vx"), ve.find("vy"), ve.find("vz")};
   if (fe.properties.size() != 1 || !fe.properties[0].is_list || plyio::is_float(fe.properties[0].type))
     throw InputError(path, "UV mesh PLY faces must hold one integer list of vertex indices");
+  return l;
+}
+
+}  // namespace
+
+UVMesh read_uv_mesh_ply(const std::string& path) {
+  static_assert(std::endian::native == std::endian::little, "le_value reads little-endian values in place");
+  const std::string bytes = read_file_bytes(path);
+  const plyio::PlyHeader h = plyio::parse_ply_header(path, bytes);
+  const UvPlyLayout l = uv_ply_layout(path, h);
+  const plyio::PlyElement &ve = h.elements[0], &fe = h.elements[1];
   const plyio::PlyProperty& list = fe.properties[0];
   const std::size_t count_size = static_cast<std::size_t>(plyio::type_size(list.count_type));
   const std::size_t index_size = static_cast<std::size_t>(plyio::type_size(list.type));
@@ -358,19 +379,18 @@ UVMesh read_uv_mesh_ply(const std::string& path) {
   };
 
   std::size_t at = h.body_offset;
-  if ((bytes.size() - at) / std::max<std::size_t>(stride, 1) < ve.count) throw truncated();
+  if ((bytes.size() - at) / std::max<std::size_t>(l.stride, 1) < ve.count) throw truncated();
   UVMesh out;
-  auto vec3 = [&](const char* r, int a, int b, int c) {
-    return Vec3(le_value(r + offset[a], ve.properties[a].type), le_value(r + offset[b], ve.properties[b].type),
-                le_value(r + offset[c], ve.properties[c].type));
+  auto value = [&](const char* r, int k) { return le_value(r + l.offset[k], ve.properties[k].type); };
+  auto vec3 = [&](const char* r, const std::array<int, 3>& k) {
+    return Vec3(value(r, k[0]), value(r, k[1]), value(r, k[2]));
   };
-  for (std::size_t i = 0; i < ve.count; ++i, at += stride) {
+  for (std::size_t i = 0; i < ve.count; ++i, at += l.stride) {
     const char* r = bytes.data() + at;
-    out.positions.push_back(vec3(r, x, y, z));
-    out.uvs.emplace_back(le_value(r + offset[u], ve.properties[u].type),
-                         le_value(r + offset[v], ve.properties[v].type));
-    if (has_normal) out.normals.push_back(vec3(r, ve.find("nx"), ve.find("ny"), ve.find("nz")));
-    if (has_velocity) out.velocities.push_back(vec3(r, ve.find("vx"), ve.find("vy"), ve.find("vz")));
+    out.positions.push_back(vec3(r, {l.x, l.y, l.z}));
+    out.uvs.emplace_back(value(r, l.u), value(r, l.v));
+    if (l.normal[0] >= 0) out.normals.push_back(vec3(r, l.normal));
+    if (l.velocity[0] >= 0) out.velocities.push_back(vec3(r, l.velocity));
     if (!out.positions.back().allFinite() || !out.uvs.back().allFinite())
       throw InputError(path, "vertex " + std::to_string(i) + " has a non-finite position or texture coordinate");
   }
