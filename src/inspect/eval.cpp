@@ -411,7 +411,7 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
       << "</text>";
   }
   s << "<text x='" << W - R << "' y='" << H - 2 << "' text-anchor='end'>frame</text>";
-  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
+  const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
   for (std::size_t k = 0; k < keys.size(); ++k) {
     std::string path;
     for (const Row& r : rows) {
@@ -421,9 +421,9 @@ std::string svg_chart(const std::string& title, const std::vector<Row>& rows, co
       std::snprintf(buf, sizeof buf, "%s%.1f,%.1f", path.empty() ? "M" : " L", X(get(r, "frame")), Y(v));
       path += buf;
     }
-    const char* colour = colours[k % 7];
-    s << "<path d='" << path << "' fill='none' stroke='" << colour << "' stroke-width='1.5'/>";
-    s << "<text x='" << W - R + 8 << "' y='" << T + 12 + 14 * k << "' fill='" << colour << "'>" << labels[k]
+    const char* color = colors[k % 7];
+    s << "<path d='" << path << "' fill='none' stroke='" << color << "' stroke-width='1.5'/>";
+    s << "<text x='" << W - R + 8 << "' y='" << T + 12 + 14 * k << "' fill='" << color << "'>" << labels[k]
       << "</text>";
   }
   return s.str() + "</svg>";
@@ -594,14 +594,14 @@ struct ChangeHistory {
   void add(int next_frame, const Tracker& tracker, double fps, Row& row) {
     const std::shared_ptr<const SurfaceIndex> next = tracker.shared_surface();
     std::map<std::uint32_t, Vec3> now;
-    for (const Patch& p : tracker.patches()) now.emplace(p.id, p.center.point.position);
+    for (const Patch& p : tracker.patches()) now.emplace(p.id, p.centre.point.position);
     if (first_density == 0.0 && next->area() > 0.0) first_density = static_cast<double>(now.size()) / next->area();
     if (surface && first_density > 0.0) {
       const TrackingOptions& o = tracker.settings().method;
       const int steps = next_frame - frame;
       const SurfaceChange change = measure_surface_change(*surface, *next, steps / fps, steps, o.d(), o.plane_angle);
       std::vector<SurfacePoint> at;
-      for (const Patch& p : tracker.patches()) at.push_back(p.center.point);
+      for (const Patch& p : tracker.patches()) at.push_back(p.centre.point);
       std::vector<Vec3> births, removals;
       for (const auto& [id, x] : now)
         if (!centres.count(id)) births.push_back(x);
@@ -752,14 +752,14 @@ Row summarize(const std::vector<Row>& rows, const std::vector<double>& lifetimes
 /// frame ranges where one is bad, and their worst frames.
 std::string html_verdict(const Verdict& verdict, const std::vector<std::string>& worst_images) {
   std::ostringstream html;
-  const char* colour[] = {"#2ca02c", "#e6a100", "#d62728"};
-  html << "<h2>Verdict: <span style='color:" << colour[static_cast<int>(verdict.grade)] << "'>"
+  const char* color[] = {"#2ca02c", "#e6a100", "#d62728"};
+  html << "<h2>Verdict: <span style='color:" << color[static_cast<int>(verdict.grade)] << "'>"
        << enum_name(verdict.grade) << "</span></h2><p>" << html_escape(verdict.line)
        << "</p><table><tr><th>figure</th><th>value</th><th>grade</th><th style='text-align:left'>unit</th>"
           "<th>good up to</th><th>bad above</th><th style='text-align:left'>when bad</th></tr>";
   for (const VerdictFigure& f : verdict.figures) {
     html << "<tr><th>" << f.name << "</th><td>" << number(f.value)
-         << "</td><td style='color:" << (std::isnan(f.value) ? "#888" : colour[static_cast<int>(f.grade)]) << "'>"
+         << "</td><td style='color:" << (std::isnan(f.value) ? "#888" : color[static_cast<int>(f.grade)]) << "'>"
          << (std::isnan(f.value) ? "not measured" : enum_name(f.grade)) << "</td><td style='text-align:left'>"
          << html_escape(f.unit) << "</td><td>" << number(f.good) << "</td><td>" << number(f.bad)
          << "</td><td style='text-align:left'>" << html_escape(f.meaning) << "</td></tr>";

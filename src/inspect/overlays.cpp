@@ -39,7 +39,7 @@ void draw_patch_borders(Canvas& canvas, const std::vector<Patch>& patches) {
 
 void draw_disk_states(Canvas& canvas, const std::vector<Patch>& patches, double radius) {
   for (const Patch& patch : patches) {
-    canvas.disc(patch.center.point.position, radius, rgb_from_srgb8(state_color(patch.state)));
+    canvas.disc(patch.centre.point.position, radius, rgb_from_srgb8(state_color(patch.state)));
   }
 }
 

@@ -105,7 +105,7 @@ std::string mtl_text(const fs::path& obj_path, const MaterialMaps& maps) {
   t += "newmtl ";
   t += kMaterialName;
   t += "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd ";
-  t += texture_reference(obj_path, maps.colour);
+  t += texture_reference(obj_path, maps.color);
   t += '\n';
   if (!maps.displacement.empty()) {
     const std::string height = texture_reference(obj_path, maps.displacement);
@@ -241,7 +241,7 @@ std::string ply_bytes(const UVMesh& mesh) {
 void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const MaterialMaps& maps) {
   validate(path, mesh);
   std::string mtl_file;
-  if (!maps.colour.empty()) {
+  if (!maps.color.empty()) {
     // The material first, so the OBJ never names a library that is not there.
     fs::path mtl_path = fs::path(path).replace_extension(".mtl");
     mtl_file = mtl_path.filename().string();

@@ -58,7 +58,7 @@ void write_disk_view(const std::string& path, const std::vector<Patch>& patches,
   std::vector<Vec3> positions;
   std::vector<Rgb> colors;
   for (const Patch& p : patches) {
-    positions.push_back(p.center.point.position);
+    positions.push_back(p.centre.point.position);
     if (is_fading_out(p.state))
       colors.push_back({220, 30, 30});
     else if (p.created_frame == frame)

@@ -76,14 +76,14 @@ namespace {
 /// --normal-atlas), written as data: linear, no colour space; returns the
 /// material's maps for the OBJ.
 MaterialMaps write_surface_maps(const JobOptions& options, int frame, const Atlas& atlas, const TexelMap& map,
-                                const Image& colour, const ImageWriteOptions& colour_write, double tile_size) {
+                                const Image& color, const ImageWriteOptions& color_write, double tile_size) {
   MaterialMaps maps(std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string());
   const std::string displacement = options.output.displacement(), normal = options.output.normal();
   if (displacement.empty() && normal.empty()) return maps;
   maps.bump_height = options.synthesis.bump_height * tile_size;
-  ImageWriteOptions write = colour_write;
+  ImageWriteOptions write = color_write;
   write.data = true;
-  const Image height = height_map(colour);
+  const Image height = height_map(color);
   if (!displacement.empty()) {
     maps.displacement = std::filesystem::absolute(FramePattern(displacement).path(frame)).string();
     write.channel_names = {"Y"};

@@ -6,12 +6,12 @@
 
 namespace fluidtex {
 
-Image height_map(const Image& colour) {
-  if (colour.channels == 1) return colour;
-  Image height = Image::blank(colour.width, colour.height, 1);
+Image height_map(const Image& color) {
+  if (color.channels == 1) return color;
+  Image height = Image::blank(color.width, color.height, 1);
   for (std::size_t i = 0; i < height.pixels.size(); ++i) {
-    const float* p = colour.pixel(i);
-    height.pixels[i] = colour.channels >= 3 ? rec709_luminance(p[0], p[1], p[2]) : p[0];
+    const float* p = color.pixel(i);
+    height.pixels[i] = color.channels >= 3 ? rec709_luminance(p[0], p[1], p[2]) : p[0];
   }
   return height;
 }

@@ -127,7 +127,7 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
     for (std::size_t v = 0; v < nv; ++v) targets[v] = map(patch.uvs[v]);
     centre_target = map(Vec2::Zero());
   } else {
-    centre_target = advect_target(patch.center.point, previous, next, dt, scheme);
+    centre_target = advect_target(patch.centre.point, previous, next, dt, scheme);
   }
   auto project = [&](const Vec3& target) {
     SurfacePoint to = next.closest_point(target);
@@ -137,7 +137,7 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   SurfacePoint centre = project(centre_target);
   if (!centre.valid()) return AdvectResult::CentreLost;
   const SurfacePoint centre_rim =
-      carried_rim_point(patch.center.point, centre, centre_target, previous, next, max_projection);
+      carried_rim_point(patch.centre.point, centre, centre_target, previous, next, max_projection);
   const bool centre_on_rim = centre_rim.valid();
   if (centre_on_rim) centre = centre_rim;
   // A centre that left through an open rim (an outflow) has left the
@@ -152,14 +152,14 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   const bool centre_left = !centre_on_rim && left_through_rim(centre, next, max_projection);
   const bool centre_missed =
       !centre_left &&
-      centre.distance > projection_tolerance(patch.center.point, patch.center.normal, centre_target, options);
+      centre.distance > projection_tolerance(patch.centre.point, patch.centre.normal, centre_target, options);
   if (centre_missed && options.distorted != Distorted::Recut) return AdvectResult::CentreLost;
   // The motion (in d a frame) sets a fade's pace under --fading flow: for a
   // centre that left through an outflow, the liquid's own motion, so that
   // the patch fades in about the frames its disk takes to flow out.
-  patch.motion = ((centre_left ? centre_target : centre.position) - patch.center.point.position).norm() / radius;
-  patch.center.point = centre;
-  patch.center.normal = next.normal_at(centre);
+  patch.motion = ((centre_left ? centre_target : centre.position) - patch.centre.point.position).norm() / radius;
+  patch.centre.point = centre;
+  patch.centre.normal = next.normal_at(centre);
 
   std::vector<std::uint8_t> keep(nv, 1);
   std::size_t kept = nv;

@@ -14,11 +14,11 @@
 
 namespace fluidtex {
 
-std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center, double select_radius,
+std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& centre, double select_radius,
                                     double patch_vertex_angle) {
   const FrameMesh& mesh = surface.mesh();
-  const Vec3 c = center.point.position;
-  const Vec3 n = center.normal;
+  const Vec3 c = centre.point.position;
+  const Vec3 n = centre.normal;
   const double r2 = select_radius * select_radius;
   DiskRegionOptions region;
   region.accept = [&](int f) {
@@ -37,7 +37,7 @@ std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSa
     return ((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0 - c).squaredNorm();
   };
   // The disk's own triangle always belongs to its patch.
-  return grow_disk_region(surface, center.point.face, region);
+  return grow_disk_region(surface, centre.point.face, region);
 }
 
 namespace {
@@ -67,7 +67,7 @@ Vec2 uv_at(const Patch& patch, const Vec3& p) {
 
 }  // namespace
 
-std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
+std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& centre,
                                  const TrackingOptions& options, std::uint32_t id, std::uint64_t seed, int frame,
                                  double edge_length, std::string* failure) {
   auto fail = [&](const char* why) -> std::optional<Patch> {
@@ -75,7 +75,7 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     return std::nullopt;
   };
   const std::vector<int> faces =
-      select_patch_faces(surface, center, (1.0 + options.selection_margin) * options.d(), options.patch_vertex_angle);
+      select_patch_faces(surface, centre, (1.0 + options.selection_margin) * options.d(), options.patch_vertex_angle);
   if (faces.empty()) return fail("empty selection");
 
   DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk
@@ -90,7 +90,7 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
   Patch patch;
   patch.id = id;
   patch.created_frame = frame;
-  patch.center = center;
+  patch.centre = centre;
   patch.triangles = copy.triangles;
   for (const Vec3& p : copy.positions) {
     const SurfacePoint s = surface.closest_point(p);
@@ -103,8 +103,8 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     if (failure) *failure = why;
     return std::nullopt;
   }
-  const Vec2 uv_center = uv_at(patch, center.point.position);
-  for (Vec2& uv : patch.uvs) uv -= uv_center;
+  const Vec2 uv_centre = uv_at(patch, centre.point.position);
+  for (Vec2& uv : patch.uvs) uv -= uv_centre;
 
   // Drop triangles LSCM folded over (rare, on very curved selections).
   std::vector<Tri> kept;
@@ -192,7 +192,7 @@ Matching match_patches(const Patch& old, const Patch& fresh, const SurfaceIndex&
 
 std::optional<Patch> recut_patch(const Patch& old, const SurfaceIndex& surface, const TrackingOptions& options,
                                  std::uint64_t seed, int frame, double edge_length) {
-  std::optional<Patch> fresh = build_patch(surface, old.center, options, old.id, seed, frame, edge_length);
+  std::optional<Patch> fresh = build_patch(surface, old.centre, options, old.id, seed, frame, edge_length);
   if (!fresh) return std::nullopt;
   Matching pairs = match_patches(old, *fresh, surface, options);
   if (pairs.weight.size() < 3) return std::nullopt;

@@ -217,7 +217,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
     Patch& p = patches_[i];
     if (is_lost(advected[i])) {
       ++report.lost;
-      report.removals.push_back(p.center.point.position);
+      report.removals.push_back(p.centre.point.position);
       if (!is_fading_out(p.state)) {
         const RetireCause cause =
             advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
@@ -249,7 +249,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   for (std::size_t i = 0; i < patches_.size(); ++i) {
     if (is_fading_out(patches_[i].state)) continue;
     live.push_back(i);
-    disks.push_back(patches_[i].center);
+    disks.push_back(patches_[i].centre);
   }
   auto covers_centre = [&](std::size_t older, std::size_t younger) {
     return patch_covers(patches_[live[older]], disks[younger].point.position, disks[younger].normal, o.mpt());
@@ -261,7 +261,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
   // it stood for is going, and a new disk there would sink in turn.
   std::vector<SurfaceSample> remaining;
   for (const Patch& p : patches_)
-    if (is_sinking(p)) remaining.push_back(p.center);
+    if (is_sinking(p)) remaining.push_back(p.centre);
   for (std::size_t k = 0; k < live.size(); ++k) {
     Patch& p = patches_[live[k]];
     p.close_frames = close[k] ? p.close_frames + 1 : 0;
@@ -392,7 +392,7 @@ std::vector<BBox> Tracker::regrow_over_gaps(const SurfaceIndex& surface, const s
   std::vector<Vec3> centres;
   for (std::size_t i = 0; i < patches_.size(); ++i) {
     if (live_mask[i] && !is_fading_out(patches_[i].state))
-      owner.push_back(i), centres.push_back(patches_[i].center.point.position);
+      owner.push_back(i), centres.push_back(patches_[i].centre.point.position);
   }
   const PointIndex index(centres);
   // Each bare candidate goes to the nearest live disk whose Poisson
@@ -407,7 +407,7 @@ std::vector<BBox> Tracker::regrow_over_gaps(const SurfaceIndex& surface, const s
     double best = std::numeric_limits<double>::infinity();
     std::size_t chosen = patches_.size();
     for (int j : near) {
-      const SurfaceSample& disk = patches_[owner[j]].center;
+      const SurfaceSample& disk = patches_[owner[j]].centre;
       const double dist = (disk.point.position - c.point.position).squaredNorm();
       if (dist < best && rejects(disk.point.position, disk.normal, c.point.position, c.normal, o.d(), params))
         best = dist, chosen = owner[j];
@@ -458,7 +458,7 @@ void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<Surfa
       ++report.failed;
       continue;
     }
-    report.births.push_back(p->center.point.position);
+    report.births.push_back(p->centre.point.position);
     p->state = started_ ? DiskState::FadingIn : DiskState::Active;
     p->kt = started_ ? 0.0 : 1.0;
     patches_.push_back(std::move(*p));
@@ -490,7 +490,7 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
     // The new patches' first frame, as fade() and weigh() gave the others.
     std::vector<SurfaceSample> all;
     all.reserve(patches_.size());
-    for (const Patch& p : patches_) all.push_back(p.center);
+    for (const Patch& p : patches_) all.push_back(p.centre);
     const std::vector<int> rho = disk_density(all, poisson_params(o));
     for (std::size_t i = first; i < patches_.size(); ++i) {
       Patch& p = patches_[i];
@@ -514,7 +514,7 @@ std::vector<int> Tracker::fade(const SurfaceIndex& surface, const SurfaceChange*
   const TrackingOptions& o = settings_.method;
   std::vector<SurfaceSample> all;
   all.reserve(patches_.size());
-  for (const Patch& p : patches_) all.push_back(p.center);
+  for (const Patch& p : patches_) all.push_back(p.centre);
   const std::vector<int> rho = disk_density(all, poisson_params(o));
   const int steps = std::max(1, report.frame - frame_);
   std::vector<Patch> survivors;
@@ -529,12 +529,12 @@ std::vector<int> Tracker::fade(const SurfaceIndex& surface, const SurfaceChange*
     // (The change is per frame; a step of several frames fades once.)
     double at_least = 0.0;
     if (change && p.cause == RetireCause::Sunk && is_fading_out(p.state)) {
-      at_least = steps * std::max(0.0, -change->at(p.center.point)) / -std::log(1.0 - o.kill_alpha);
+      at_least = steps * std::max(0.0, -change->at(p.centre.point)) / -std::log(1.0 - o.kill_alpha);
     }
     const FadeResult r = fade_step(p.state, p.kt, rho[i], o.fade_frames, o.fading, p.motion, at_least);
     if (r.remove) {
       ++report.removed;
-      report.removals.push_back(p.center.point.position);
+      report.removals.push_back(p.centre.point.position);
       // Every face its triangles may reach, not only those under its
       // vertices: a patch edge spans several faces of a fine surface.
       if (is_sinking(p)) {
@@ -565,7 +565,7 @@ void Tracker::track_sinking(const SurfaceChange& change, int frame) {
   const double decay = std::pow(keep, steps);
   const double gain = keep < 1.0 ? (1.0 - decay) / (1.0 - keep) : 1.0;
   for (Patch& p : patches_) {
-    if (!is_fading_out(p.state)) p.sunk = decay * p.sunk + gain * change.at(p.center.point);
+    if (!is_fading_out(p.state)) p.sunk = decay * p.sunk + gain * change.at(p.centre.point);
   }
 }
 
@@ -579,7 +579,7 @@ void Tracker::tally_change(const SurfaceIndex& surface, const SurfaceChange& cha
   const ScopedStage stage(report.seconds, "change_tally");
   std::vector<SurfacePoint> centres;
   centres.reserve(patches_.size());
-  for (const Patch& p : patches_) centres.push_back(p.center.point);
+  for (const Patch& p : patches_) centres.push_back(p.centre.point);
   report.change = fluidtex::tally_change(surface, change, centres, report.births, report.removals);
 }
 

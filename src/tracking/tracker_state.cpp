@@ -297,7 +297,7 @@ Tracker::UnpackedState Tracker::unpacked_state() const {
     w.put(static_cast<std::int32_t>(p.density)), w.put(static_cast<std::uint8_t>(p.cause));
     w.put(static_cast<std::int32_t>(p.close_frames)), w.put(static_cast<std::int32_t>(p.recut_frame));
     w.put(p.sunk);
-    w.put(p.center.point), w.put(p.center.normal), w.put(p.anchor), w.put(p.texture_offset);
+    w.put(p.centre.point), w.put(p.centre.normal), w.put(p.anchor), w.put(p.texture_offset);
     w.put_vector(p.projections), w.put_vector(p.uvs), w.put_vector(p.triangles);
     w.put_vector(p.rest), w.put_vector(p.border), w.put_vector(p.quality), w.put_vector(p.weight);
     w.put_vector(p.recovery);
@@ -335,7 +335,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
     p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
     p.recut_frame = recut;
-    r.get(p.center.point), r.get(p.center.normal), r.get(p.anchor), r.get(p.texture_offset);
+    r.get(p.centre.point), r.get(p.centre.normal), r.get(p.anchor), r.get(p.texture_offset);
     r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
     r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
     r.get_vector(p.recovery);

@@ -424,15 +424,15 @@ TEST(Cli, ColourHeightAndNormalAtlasesFromOneRun) {
   const std::string maps = " --displacement-atlas " + q(dir.file("o/h/height.####.exr")) + " --normal-atlas " +
                            q(dir.file("o/n/normal.$F4.exr")) + " --bump-height 0.5";
   ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("o")) + maps, &out), 0) << out;
-  const Image colour = read_image(dir.file("o/atlas.0002.exr"));
+  const Image color = read_image(dir.file("o/atlas.0002.exr"));
   const Image height = read_image(dir.file("o/h/height.0002.exr"));
   const Image normal = read_image(dir.file("o/n/normal.0002.exr"));
   ASSERT_EQ(height.channels, 1);
   ASSERT_EQ(normal.channels, 3);
-  ASSERT_EQ(height.pixels.size() * 3, colour.pixels.size());
+  ASSERT_EQ(height.pixels.size() * 3, color.pixels.size());
   double worst = 0.0;
   for (std::size_t i = 0; i < height.pixels.size(); ++i) {
-    const float* c = colour.pixel(i);
+    const float* c = color.pixel(i);
     worst = std::max(worst, std::abs(height.pixels[i] - (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2])));
   }
   EXPECT_LT(worst, 2e-3);  // both stored as half

@@ -190,7 +190,7 @@ Patch square_patch(std::uint32_t id, double lo, double hi, double z, DiskState s
   p.state = state;
   p.positions = {Vec3(lo, lo, z), Vec3(hi, lo, z), Vec3(hi, hi, z), Vec3(lo, hi, z)};
   p.triangles = {{0, 1, 2}, {0, 2, 3}};
-  p.center.point.position = Vec3(0.5 * (lo + hi), 0.5 * (lo + hi), z);
+  p.centre.point.position = Vec3(0.5 * (lo + hi), 0.5 * (lo + hi), z);
   return p;
 }
 

@@ -33,10 +33,10 @@ Vec3 decoded(const Image& normal, int x, int y) {
 }
 
 TEST(SurfaceMaps, HeightIsTheColoursLuminance) {
-  Image colour = Image::blank(2, 1, 3);
-  colour.at(0, 0, 0) = 1.0f;
-  colour.at(1, 0, 1) = 0.5f, colour.at(1, 0, 2) = 1.0f;
-  const Image height = height_map(colour);
+  Image color = Image::blank(2, 1, 3);
+  color.at(0, 0, 0) = 1.0f;
+  color.at(1, 0, 1) = 0.5f, color.at(1, 0, 2) = 1.0f;
+  const Image height = height_map(color);
   ASSERT_EQ(height.channels, 1);
   EXPECT_FLOAT_EQ(height.at(0, 0, 0), 0.2126f);
   EXPECT_FLOAT_EQ(height.at(1, 0, 0), 0.7152f * 0.5f + 0.0722f);

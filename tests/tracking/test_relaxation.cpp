@@ -158,8 +158,8 @@ TEST(Relaxation, FewerPatchesAreRetiredAsStretchedInASustainedStretch) {
     double nearest = 1e9;
     Vec3 start;
     for (const Patch& p : t.patches()) {
-      const double r = p.center.point.position.norm();
-      if (r < nearest) nearest = r, centre_id = p.id, start = p.center.point.position;
+      const double r = p.centre.point.position.norm();
+      if (r < nearest) nearest = r, centre_id = p.id, start = p.centre.point.position;
     }
     for (int f = 2; f <= 48; ++f) {
       const StepReport r = t.step(strained_plane(a, dt), f, dt);
@@ -170,7 +170,7 @@ TEST(Relaxation, FewerPatchesAreRetiredAsStretchedInASustainedStretch) {
         const Vec3 path(start.x() * std::exp(a * time), start.y() * std::exp(-a * time), 0.0);
         run.centre_live_until = f;
         run.centre_max_distortion = std::max(run.centre_max_distortion, p.max_distortion);
-        run.centre_off_path = std::max(run.centre_off_path, (p.center.point.position - path).norm());
+        run.centre_off_path = std::max(run.centre_off_path, (p.centre.point.position - path).norm());
       }
     }
     return run;

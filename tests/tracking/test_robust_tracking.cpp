@@ -87,7 +87,7 @@ Survival track_sphere(const RigidMotion& m, bool paper_rules, int frames = 36) {
   for (int f = 1; f <= frames; ++f) {
     const StepReport r = tracker.step(noisy_sphere(m, f, fps, 0.2), f, 1.0 / fps);
     if (f == 1) {
-      for (const Patch& p : tracker.patches()) first[p.id] = p.center.point.position;
+      for (const Patch& p : tracker.patches()) first[p.id] = p.centre.point.position;
     } else {
       births += r.created / static_cast<double>(tracker.patches().size());
     }
@@ -100,7 +100,7 @@ Survival track_sphere(const RigidMotion& m, bool paper_rules, int frames = 36) {
     const auto it = first.find(p.id);
     if (it == first.end() || is_fading_out(p.state)) continue;
     ++kept;
-    const double e = (p.center.point.position - m.at(it->second, t)).norm() / d;
+    const double e = (p.centre.point.position - m.at(it->second, t)).norm() / d;
     s.drift += e;
     s.drift_max = std::max(s.drift_max, e);
   }
@@ -179,7 +179,7 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
       if (i == 0 || born.created_frame != f) continue;
       for (const Patch& p : tracker.patches()) {
         cut.born_in_waiting += p.created_frame < f && p.close_frames > 0 && !is_fading_out(p.state) &&
-                               patch_covers(p, born.center.point.position, born.center.normal, mpt);
+                               patch_covers(p, born.centre.point.position, born.centre.normal, mpt);
       }
     }
     const PatchCoverage coverage(tracker.patches(), mpt);
@@ -569,7 +569,7 @@ class FlatRecut {
       old_->projections[v] = surface_.closest_point(f(old_->positions[v]));
       old_->positions[v] = old_->projections[v].position;
     }
-    old_->center.point = surface_.closest_point(f(c0_));
+    old_->centre.point = surface_.closest_point(f(c0_));
     return update_distortion(*old_, surface_, o_);
   }
   std::optional<Patch> recut() {
@@ -617,7 +617,7 @@ TEST(Recut, ARigidlyMovedPatchKeepsItsTextureAndItsPlace) {
   EXPECT_EQ(cut->recut_frame, 9);
   EXPECT_EQ(cut->close_frames, 2);
   EXPECT_EQ(cut->anchor, old.anchor);
-  EXPECT_EQ(cut->center.point.position, old.center.point.position);
+  EXPECT_EQ(cut->centre.point.position, old.centre.point.position);
   int compared = 0;
   double worst = 0.0;
   for (std::size_t v = 0; v < cut->num_vertices(); ++v) {
@@ -635,7 +635,7 @@ TEST(Recut, ARigidlyMovedPatchKeepsItsTextureAndItsPlace) {
   EXPECT_LT(worst, 1e-6 * d);
   // Its uv still have the disk centre at the origin (K_S's radial term).
   Vec2 centre;
-  ASSERT_TRUE(texture_at(*cut, cut->center.point.position, Vec3::UnitZ(), bench.options().mpt(), centre));
+  ASSERT_TRUE(texture_at(*cut, cut->centre.point.position, Vec3::UnitZ(), bench.options().mpt(), centre));
   EXPECT_LT((centre - cut->texture_offset).norm(), 1e-6);
 }
 
@@ -744,8 +744,8 @@ TEST(Recut, APatchWhoseCentreMissesTheSurfaceIsMovedAndRecutNotLost) {
   o.distorted = Distorted::Recut;
   Patch moved = *built;
   ASSERT_EQ(advect(moved, next), AdvectResult::CentreMoved);
-  EXPECT_TRUE(moved.center.point.valid());
-  EXPECT_NEAR(moved.center.point.position.z(), -depth, 1e-9);
+  EXPECT_TRUE(moved.centre.point.valid());
+  EXPECT_NEAR(moved.centre.point.position.z(), -depth, 1e-9);
   const std::optional<Patch> cut = recut_patch(moved, next, o, 1, 2, 0.25 * o.d());
   ASSERT_TRUE(cut);
   EXPECT_EQ(cut->id, built->id);
@@ -790,8 +790,8 @@ TEST(ProjectionSlack, AFastSheetWhoseVelocityOverpredictsItsNormalMotionKeepsIts
   Patch kept = *built;
   ASSERT_EQ(advect(kept, next), AdvectResult::Kept);
   EXPECT_EQ(kept.num_vertices(), built->num_vertices());
-  EXPECT_NEAR(kept.center.point.position.x(), 0.5 + u * dt, 1e-9);
-  EXPECT_NEAR(kept.center.point.position.z(), 0.7 * rise, 1e-9);
+  EXPECT_NEAR(kept.centre.point.position.x(), 0.5 + u * dt, 1e-9);
+  EXPECT_NEAR(kept.centre.point.position.z(), 0.7 * rise, 1e-9);
 
   // Motion along the sheet earns no slack: the same sheet drifting at u
   // alone while the next frame jumps by 2 mpt has left the liquid.
@@ -828,7 +828,7 @@ TEST(Recut, APatchWhoseCentreLeavesThroughAnOutflowFadesOutOnTheRim) {
     EXPECT_EQ(advect_patch(*patch, previous, next, 1.0 / 24, o, Advection::Euler, PatchMotion::Smooth),
               AdvectResult::LeftThroughRim)
         << beyond;
-    EXPECT_NEAR(patch->center.point.position.x(), 1.0, 1e-9) << beyond;
+    EXPECT_NEAR(patch->centre.point.position.x(), 1.0, 1e-9) << beyond;
     EXPECT_NEAR(patch->motion, shift / o.d(), 1e-6) << beyond;
   }
 }
@@ -866,7 +866,7 @@ TEST(Rim, AnOutlineThatMovesWithTheLiquidKeepsItsRimAndAnInflowRimLetsGo) {
               AdvectResult::CentreLost);
     ASSERT_EQ(patch->num_vertices(), was.size());  // nothing lost past the rim
     const double rim = 0.6 * std::exp(k * dt * f);
-    EXPECT_NEAR(patch->center.point.position.x(), rim, 1e-9) << f;
+    EXPECT_NEAR(patch->centre.point.position.x(), rim, 1e-9) << f;
     for (std::size_t v = 0; v < was.size(); ++v) {
       if (!was[v] || std::abs(patch->positions[v].y()) > 0.59) continue;  // the corners are another matter
       ++on_rim;
@@ -888,7 +888,7 @@ TEST(Rim, AnOutlineThatMovesWithTheLiquidKeepsItsRimAndAnInflowRimLetsGo) {
   ASSERT_NE(advect_patch(*entering, surface, surface, dt, o, Advection::Euler, PatchMotion::Smooth),
             AdvectResult::CentreLost);
   ASSERT_EQ(entering->num_vertices(), before.num_vertices());
-  EXPECT_NEAR((entering->center.point.position - before.center.point.position - inflow * dt).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((entering->centre.point.position - before.centre.point.position - inflow * dt).norm(), 0.0, 1e-9);
   for (std::size_t v = 0; v < before.num_vertices(); ++v)
     EXPECT_NEAR((entering->positions[v] - before.positions[v] - inflow * dt).norm(), 0.0, 1e-9);
 }

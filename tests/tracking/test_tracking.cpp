@@ -478,7 +478,7 @@ TEST(Tracker, ConstantVelocityTranslatesPatchesExactly) {
   t.step(plane(), 2, 0.1);
   const Patch& after = t.patches().front();
   ASSERT_EQ(after.id, before.id);
-  EXPECT_NEAR((after.center.point.position - before.center.point.position - 0.1 * v).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((after.centre.point.position - before.centre.point.position - 0.1 * v).norm(), 0.0, 1e-12);
   ASSERT_EQ(after.num_vertices(), before.num_vertices());
   for (std::size_t i = 0; i < after.num_vertices(); ++i) {
     EXPECT_NEAR((after.positions[i] - before.positions[i] - 0.1 * v).norm(), 0.0, 1e-12);

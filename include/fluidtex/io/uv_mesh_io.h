@@ -33,17 +33,17 @@ struct UVMesh {
 /// written a height atlas (disp, and bump with `-bm bump_height`, the scene
 /// height of white above black) and a tangent-space normal atlas (norm).
 struct MaterialMaps {
-  std::string colour;
+  std::string color;
   std::string displacement;
   std::string normal;
   double bump_height = 1.0;
   MaterialMaps() = default;
-  MaterialMaps(std::string colour_image) : colour(std::move(colour_image)) {}  // NOLINT: a string names the colour
-  MaterialMaps(const char* colour_image) : colour(colour_image) {}             // NOLINT
+  MaterialMaps(std::string color_image) : color(std::move(color_image)) {}  // NOLINT: a string names the colour
+  MaterialMaps(const char* color_image) : color(color_image) {}             // NOLINT
 };
 
 /// Writes a Wavefront OBJ (`v`, `vt`, `vn`, `f v/vt/vn`, 1-based), atomically.
-/// With `maps.colour` non-empty, first writes a sibling `<stem>.mtl` (material
+/// With `maps.color` non-empty, first writes a sibling `<stem>.mtl` (material
 /// "fluidtex_atlas") naming the maps, and adds `mtllib`/`usemtl` lines.
 /// A relative image path is written as given (it should be relative to the
 /// OBJ's folder, usually the atlas's file name); an absolute one is made

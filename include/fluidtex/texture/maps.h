@@ -19,7 +19,7 @@ namespace fluidtex {
 
 /// One channel: Rec. 709 luminance of a colour atlas (a one-channel atlas
 /// is returned as it is).
-Image height_map(const Image& colour);
+Image height_map(const Image& color);
 
 /// The tangent-space normal of the surface displaced by `bump_height` ×
 /// height (scene units: white stands `bump_height` above black), encoded

@@ -32,7 +32,7 @@ struct Patch {
   int density = 0;                        ///< ρ at the last update
   double motion = 0.0;                    ///< how far the centre moved in the last step, in units of d
 
-  SurfaceSample center;        ///< the Poisson disk: centre on the current surface, normal
+  SurfaceSample centre;        ///< the Poisson disk: centre on the current surface, normal
   Vec2 anchor = Vec2::Zero();  ///< exemplar position of the centre, in tiles ([0,1)²)
   /// Added to every uv at exemplar lookup (metric, 0 when built): a recut
   /// patch (recut_patch) keeps showing the texture its predecessor showed,

@@ -21,9 +21,9 @@
 
 namespace fluidtex {
 
-/// Triangles (face indices) of the disk-like selection around `center`, in
+/// Triangles (face indices) of the disk-like selection around `centre`, in
 /// the order they were added (the centre's triangle first).
-std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& center, double select_radius,
+std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& centre, double select_radius,
                                     double patch_vertex_angle);
 
 /// Builds the patch of a new disk; `options` must be resolved (radius > 0).
@@ -32,7 +32,7 @@ std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSa
 /// surface's own triangles) before LSCM. Returns nullopt (with the reason in
 /// `failure`) when no usable patch can be made, e.g. when the LSCM solve
 /// fails. K_t, state and weights are left for the caller.
-std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& center,
+std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& centre,
                                  const TrackingOptions& options, std::uint32_t id, std::uint64_t seed, int frame,
                                  double edge_length, std::string* failure = nullptr);
 
