@@ -206,19 +206,21 @@ TEST(Farm, ResumeRefusesEveryOptionThatChangesTheOutput) {
   }
 }
 
+/// The command line `args` is refused: exit 2, one line, naming `named`.
+void refused(const std::string& args, const std::string& named) {
+  SCOPED_TRACE(args);
+  std::string text;
+  EXPECT_EQ(run_fluidtex(args, &text), 2) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  EXPECT_NE(text.find(named), std::string::npos) << text;
+}
+
 TEST(Farm, ResumeAndSynthRefuseAnotherJobWithExit2AndOneLine) {
   test::TempDir dir;
   const std::string bare = scene_run(dir), run = bare + kSettings;
   const std::string out_dir = dir.file("job");
   std::string out;
   ASSERT_EQ(run_fluidtex(run + "-o " + q(out_dir) + " --frames 1-3 --track-only", &out), 0) << out;
-  auto refused = [&](const std::string& args, const std::string& named) {
-    SCOPED_TRACE(args);
-    std::string text;
-    EXPECT_EQ(run_fluidtex(args, &text), 2) << text;
-    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
-    EXPECT_NE(text.find(named), std::string::npos) << text;
-  };
   // --resume with other settings, or frames that do not continue the job's
   // (the case: --frames 4-6 with states up to 3).
   refused(bare + "-o " + q(out_dir) + " --track-only --resume --seed 3 --atlas-size 256", "--atlas-size differs");
@@ -280,13 +282,6 @@ TEST(Farm, ACacheMountedElsewhereIsFoundWhereAStepIsToldAndCheckedByContent) {
             0)
       << out;
   fs::rename(dir.path() / "a", dir.path() / "b");
-  auto refused = [&](const std::string& args, const std::string& named) {
-    SCOPED_TRACE(args);
-    std::string text;
-    EXPECT_EQ(run_fluidtex(args, &text), 2) << text;
-    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
-    EXPECT_NE(text.find(named), std::string::npos) << text;
-  };
   // synth: where job.toml says, nothing is found; where it is told, the
   // frames are one run's; another cache or exemplar there is refused.
   refused("synth -o " + q(dir.file("job")), dir.file("a/ex.png"));
