@@ -51,4 +51,39 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
   return stale;
 }
 
+void check_output_paths(const JobOptions& options) {
+  namespace fs = std::filesystem;
+  // Each file as frame 1 of its pattern, absolute: `a.####.exr` and
+  // `a.%04d.exr` are one file.
+  auto file_of = [](const std::string& pattern) {
+    return fs::absolute(FramePattern(pattern).path(1)).lexically_normal().string();
+  };
+  std::vector<std::pair<std::string, std::string>> outputs;  // file, what writes it
+  const char* const names[] = {"--atlas", "--mesh"};
+  const std::vector<std::string> patterns = frame_output_patterns(options);
+  for (std::size_t i = 0; i < patterns.size(); ++i) {
+    std::string what = i < 2 ? names[i] : "the output " + patterns[i];
+    if (patterns[i] == options.output.displacement()) what = "--displacement-atlas";
+    if (patterns[i] == options.output.normal()) what = "--normal-atlas";
+    if (i == 2 && lower_extension(patterns[1]) == ".obj") what = "the material of --mesh";
+    outputs.emplace_back(file_of(patterns[i]), what);
+  }
+  outputs.emplace_back(file_of(state_pattern(options.output.dir)), "the state files");
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (outputs[i].first == outputs[j].first)
+        throw InputError(outputs[i].first, outputs[j].second + " and " + outputs[i].second +
+                                               " would write the same file: give them different patterns");
+    }
+  }
+  std::vector<std::pair<std::string, std::string>> inputs = {{file_of(options.input.pattern), "the input frames"}};
+  if (!options.exemplar.empty())
+    inputs.emplace_back(fs::absolute(options.exemplar).lexically_normal().string(), "the exemplar");
+  for (const auto& [file, what] : outputs) {
+    for (const auto& [in, in_what] : inputs) {
+      if (file == in) throw InputError(file, what + " would overwrite " + in_what + ": write it elsewhere");
+    }
+  }
+}
+
 }  // namespace fluidtex

@@ -529,6 +529,7 @@ void report_frame_rate(const Sequence& sequence, Reporter& reporter) {
 JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
   const auto start = Clock::now();
   requested.validate();
+  check_output_paths(requested);
   // A run owns its whole folder: other machines' temporaries go too.
   if (const std::size_t stale = remove_interrupted_temporaries(requested, [](const std::string&) { return true; }))
     reporter.verbose("removed " + std::to_string(stale) + " temporary files of an interrupted run");

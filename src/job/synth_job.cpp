@@ -60,6 +60,7 @@ JobOptions synthesis_job(const JobRecord& record, const SynthRequest& request) {
   options.synthesis.track_only = false;
   options.input.frames = format_frame_range(record.frames);  // the sequence as tracked (velocity differences)
   options.validate();
+  check_output_paths(options);
   return options;
 }
 

@@ -169,6 +169,27 @@ TEST(Cli, EveryNumberRefusesNaNAndValuesOutOfRange) {
   EXPECT_EQ(out.rfind("{\"event\":\"error\"", 0), 0u) << out;
 }
 
+TEST(Cli, NoTwoOutputsShareAFileAndNoOutputOverwritesAnInput) {
+  test::TempDir dir;
+  const std::string base = rotation_run(dir, 2, 12, 32, 64) + "-o " + q(dir.file("o")) + " ";
+  std::string out;
+  EXPECT_EQ(run_fluidtex(base + "--atlas " + q(dir.file("o/a.####.exr")) + " --displacement-atlas " +
+                             q(dir.file("o/a.%04d.exr")),
+                         &out),
+            2);
+  EXPECT_NE(out.find("--atlas and --displacement-atlas would write the same file"), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex(base + "--mesh " + q(dir.file("rotation.####.ply")), &out), 2);
+  EXPECT_NE(out.find("--mesh would overwrite the input frames"), std::string::npos) << out;
+  EXPECT_EQ(
+      run_fluidtex(base + "--atlas " + q(dir.file("o/x.####.png")) + " --mesh " + q(dir.file("o/x.####.obj")), &out),
+      0)
+      << out;  // an atlas and a mesh may share a stem
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 0) << out;
+  const std::string before = test::read_file(dir.file("rotation.0001.ply"));
+  EXPECT_FALSE(before.empty());
+  EXPECT_FALSE(fs::exists(dir.path() / "o" / "a.0001.exr"));
+}
+
 TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
   test::TempDir dir;
   std::string out;

@@ -31,6 +31,12 @@ std::string state_pattern(const std::string& dir);
 /// The state file of `frame` under `dir`.
 std::string state_path(const std::string& dir, int frame);
 
+/// InputError, before anything is written, when two of the job's outputs
+/// (atlas, UV mesh and its material, height and normal atlases, AOVs,
+/// states) would be the same file, or an output would overwrite an input
+/// (the frames, the exemplar): names both.
+void check_output_paths(const JobOptions& options);
+
 /// Removes the temporaries a killed run or synth left in the job's output
 /// folders (remove_stale_temporaries: this machine's dead writers', and
 /// other machines' whose target `owned` accepts). Returns how many.
