@@ -429,9 +429,30 @@ class FlowMapTexturing final : public Texturing {
 Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const std::vector<char>& written,
                       Reporter& reporter, std::size_t& first, JobSummary& summary, std::string& resumed_state) {
   if (options.output.resume) {
-    // The newest state whose frame is in the sequence: every output of that
-    // frame was written before it (the state is written last).
-    for (std::size_t i = sequence.size(); i-- > 0;) {
+    // The first written frame that is not complete (its outputs, or with
+    // --track-only its state, missing: a frame deleted or lost after the
+    // fact) bounds the resume: the job goes on from the newest state before
+    // it and makes every frame after it again, as the uninterrupted run did.
+    std::size_t limit = sequence.size();
+    for (std::size_t i = 0; i < sequence.size() && limit == sequence.size(); ++i) {
+      if (!written[i]) continue;
+      const int frame = sequence.frames()[i];
+      const std::vector<std::string> patterns = frame_output_patterns(options);
+      const bool textured = std::all_of(patterns.begin(), patterns.end(), [&](const std::string& p) {
+        return std::filesystem::exists(FramePattern(p).path(frame));
+      });
+      // A tracking step's frame is complete with its state, or textured by
+      // synth (which may have pruned the state).
+      const bool complete =
+          textured || (options.synthesis.track_only && std::filesystem::exists(state_path(options.output.dir, frame)));
+      if (!complete) limit = i;
+    }
+    if (limit < sequence.size() && FramePattern(state_pattern(options.output.dir)).discover().size() > 0)
+      reporter.info("frame " + std::to_string(sequence.frames()[limit]) +
+                    " of the job is incomplete: it and every frame after it are made again");
+    // The newest state before it whose frame is in the sequence: every
+    // output of that frame was written before it (the state is written last).
+    for (std::size_t i = limit; i-- > 0;) {
       if (!written[i]) continue;
       const std::string path = state_path(options.output.dir, sequence.frames()[i]);
       if (!std::filesystem::exists(path)) continue;

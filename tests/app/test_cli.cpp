@@ -297,6 +297,25 @@ TEST(Cli, ResumeContinuesFromTheLastState) {
   EXPECT_EQ(std::count(stats.begin(), stats.end(), '\n'), 4) << stats;
 }
 
+TEST(Cli, ResumeMakesAgainAFrameLostInTheMiddle) {
+  // A frame of a finished job deleted after the fact (its outputs and its
+  // state): --resume makes it and every frame after it again, the same bytes.
+  test::TempDir dir;
+  std::string out;
+  const std::string base = rotation_run(dir, 5, 12, 32, 64);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("full")), &out), 0) << out;
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("holed")), &out), 0) << out;
+  for (const char* f : {"atlas.0003.exr", "mesh.0003.obj", "mesh.0003.mtl", "state/patches.0003.bin"})
+    fs::remove(dir.path() / "holed" / f);
+  ASSERT_EQ(run_fluidtex(base + "-o " + q(dir.file("holed")) + " --resume", &out), 0) << out;
+  for (const char* f :
+       {"atlas.0003.exr", "mesh.0003.obj", "state/patches.0003.bin", "atlas.0005.exr", "state/patches.0005.bin"}) {
+    const std::string made = test::read_file(dir.path() / "holed" / f);
+    EXPECT_FALSE(made.empty()) << f;
+    EXPECT_TRUE(made == test::read_file(dir.path() / "full" / f)) << f;
+  }
+}
+
 TEST(Cli, TheFrameRateIsTheOneTheInputStatesUnlessGiven) {
   // gen --fps 12 states the rate in every frame's header; run takes it from
   // there, records it in job.toml, and warns when --fps says otherwise.
