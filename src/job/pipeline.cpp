@@ -434,10 +434,10 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const
     // fact) bounds the resume: the job goes on from the newest state before
     // it and makes every frame after it again, as the uninterrupted run did.
     std::size_t limit = sequence.size();
+    const std::vector<std::string> patterns = frame_output_patterns(options);
     for (std::size_t i = 0; i < sequence.size() && limit == sequence.size(); ++i) {
       if (!written[i]) continue;
       const int frame = sequence.frames()[i];
-      const std::vector<std::string> patterns = frame_output_patterns(options);
       const bool textured = std::all_of(patterns.begin(), patterns.end(), [&](const std::string& p) {
         return std::filesystem::exists(FramePattern(p).path(frame));
       });
