@@ -109,6 +109,10 @@ std::string job_record_toml(const JobRecord& record) {
 
 JobRecord read_job_record(const std::string& run_dir) {
   const std::string path = job_record_path(run_dir);
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec) && fs::file_size(path, ec) == 0)
+    throw InputError(path,
+                     "empty: not a job record (the run that wrote it was cut off: run the job again, with --force)");
   JobRecord record;
   record.options = read_job_manifest(run_dir);
   for (const ConfigEntry& e : read_config_file(path, "job")) {

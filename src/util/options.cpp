@@ -154,6 +154,17 @@ std::string format_toml(const std::vector<OptionRef>& options) {
 
 std::vector<ConfigEntry> read_config_file(const std::string& path, const std::string& table) {
   require_regular_file(path, "config file");  // a folder or a device would read as an empty file
+  {
+    // Binary data is refused before anything of it could reach a message.
+    std::ifstream probe(path, std::ios::binary);
+    char buf[4096];
+    probe.read(buf, sizeof buf);
+    for (std::streamsize i = 0; i < probe.gcount(); ++i) {
+      const auto c = static_cast<unsigned char>(buf[i]);
+      if (c == 0 || (c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f)
+        throw InputError(path, "not a TOML text file (binary data)");
+    }
+  }
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot read config file");
   // CLI11 2.1 cuts a value at the first '#' even inside quotes
@@ -200,7 +211,10 @@ void apply_config(const std::vector<ConfigEntry>& entries, const std::vector<Opt
   for (const ConfigEntry& entry : entries) {
     const auto it =
         std::find_if(table.begin(), table.end(), [&](const OptionRef& o) { return entry.name == o.info.name; });
-    if (it == table.end()) throw InputError(path, "unknown option '" + entry.name + "'");
+    if (it == table.end()) {
+      const std::string shown = entry.name.size() > 60 ? entry.name.substr(0, 60) + "…" : entry.name;
+      throw InputError(path, "unknown option '" + shown + "'");
+    }
     if (skip(entry.name)) continue;
     try {
       it->set(entry.values);

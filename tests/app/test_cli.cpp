@@ -190,6 +190,26 @@ TEST(Cli, NoTwoOutputsShareAFileAndNoOutputOverwritesAnInput) {
   EXPECT_FALSE(fs::exists(dir.path() / "o" / "a.0001.exr"));
 }
 
+TEST(Cli, ABinaryOrEmptyJobFileIsNamedNotEchoed) {
+  test::TempDir dir;
+  std::string bytes;
+  for (int i = 0; i < 3000; ++i) bytes += static_cast<char>((i * 131 + 7) % 256);  // binary, NULs included
+  test::write_file(dir.path() / "bin.toml", bytes);
+  std::string out;
+  EXPECT_EQ(run_fluidtex("run -i x.####.ply -o " + q(dir.file("o")) + " --config " + q(dir.file("bin.toml")), &out), 2);
+  EXPECT_NE(out.find("bin.toml: not a TOML text file (binary data)"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_LT(out.size(), 200u) << out;
+  fs::create_directories(dir.path() / "job");
+  test::write_file(dir.path() / "job" / "job.toml", "");
+  EXPECT_EQ(run_fluidtex("synth -o " + q(dir.file("job")), &out), 2);
+  EXPECT_NE(out.find("job.toml: empty: not a job record"), std::string::npos) << out;
+  test::write_file(dir.path() / "job" / "job.toml", bytes);
+  EXPECT_EQ(run_fluidtex("synth -o " + q(dir.file("job")), &out), 2);
+  EXPECT_NE(out.find("job.toml: not a TOML text file (binary data)"), std::string::npos) << out;
+  EXPECT_LT(out.size(), 200u) << out;
+}
+
 TEST(Cli, PrintConfigRoundTripsThroughConfigFile) {
   test::TempDir dir;
   std::string out;
