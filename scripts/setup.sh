@@ -12,6 +12,9 @@ cd "$(dirname "$0")/.."
 # libopencv-dev's dependencies (OpenCV's image codecs link GDAL, GDAL links
 # Xerces-C); they are listed so that the list names every library the
 # build's link closure reaches. clang-format is the tests' (Style.ClangFormat).
+# perl-base (Essential) and libegl-mesa0 (libegl1's dependency) come with
+# the others; they are named because the build's CMake packages reference
+# their files.
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libnanoflann-dev libtbb-dev libcli11-dev
@@ -20,6 +23,7 @@ PACKAGES=(
   libgdal32 libxerces-c3.2
   libgtest-dev libgmock-dev
   clang-format
+  perl-base libegl-mesa0
 )
 
 if [[ "${1:-}" == --list ]]; then
