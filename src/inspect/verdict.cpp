@@ -18,14 +18,30 @@ double value_of(const MetricRow& row, const std::string& key) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-/// The figures judged per frame and per shot: how one frame's value is
-/// read from its row.
+/// How a shot's value comes from its frames.
+enum class Aggregate {
+  Largest,         ///< the largest frame's value
+  Mean,            ///< the mean of the frames' values
+  MeanAfterFirst,  ///< the same without the first frame (whose disks are all new)
+  SummedRatio,     ///< Σ column / Σ denominator over the frames
+  MeanFromOne,     ///< |mean of column − 1|
+};
+
+/// A headline figure: what it is called and means, how one frame's value is
+/// read from its row and the shot's from the frames, whether runs of bad
+/// frames are reported, and its bounds.
 struct Measure {
   const char* key;
   const char* name;
   const char* unit;
   const char* meaning;
   double (*per_frame)(const MetricRow&);
+  Aggregate how;
+  bool ranges;  ///< report the frame ranges where it is bad
+  double EvalThresholds::*good;
+  double EvalThresholds::*bad;
+  const char* column = "";       ///< SummedRatio, MeanFromOne: the column summed
+  const char* denominator = "";  ///< SummedRatio
 };
 
 /// A frame's warping ratio; infinite for a texture that does not change in
@@ -43,67 +59,58 @@ double flow(const MetricRow& r) {
   return speed >= 1.0 ? value_of(r, "flow_slow_endpoint_px") / speed : std::numeric_limits<double>::quiet_NaN();
 }
 
+using T = EvalThresholds;
 const Measure kMeasures[] = {
     {"coverage", "uncovered surface", "share of the surface area, largest frame", "the texture leaves surface bare",
-     [](const MetricRow& r) { return value_of(r, "uncovered_area"); }},
+     [](const MetricRow& r) { return value_of(r, "uncovered_area"); }, Aggregate::Largest, true, &T::uncovered_good,
+     &T::uncovered_bad},
     {"warping", "warping ratio", "change along the liquid's motion over a still texture's change in place (0 to 1+)",
-     "the texture slides against the liquid", warping},
+     "the texture slides against the liquid", warping, Aggregate::Mean, true, &T::warping_good, &T::warping_bad},
     {"flow", "flow error", "optical-flow endpoint error over the liquid's projected motion, pixels under 15 px",
-     "the texture's motion disagrees with the liquid's", flow},
+     "the texture's motion disagrees with the liquid's", flow, Aggregate::SummedRatio, true, &T::flow_good,
+     &T::flow_bad, "flow_slow_endpoint_px", "flow_slow_speed_px"},
     {"ghosting", "ghosting", "patches blended per texel, mean", "many patches blend into a blur",
-     [](const MetricRow& r) { return value_of(r, "ghosting_mean"); }},
+     [](const MetricRow& r) { return value_of(r, "ghosting_mean"); }, Aggregate::Mean, true, &T::ghosting_good,
+     &T::ghosting_bad},
     {"contrast", "contrast change", "|σ of the atlas's green over the exemplar's − 1|",
      "the texture is washed out, or harsher than its exemplar",
-     [](const MetricRow& r) { return std::abs(value_of(r, "contrast_g") - 1.0); }},
+     [](const MetricRow& r) { return std::abs(value_of(r, "contrast_g") - 1.0); }, Aggregate::MeanFromOne, false,
+     &T::contrast_good, &T::contrast_bad, "contrast_g"},
     {"churn", "churn", "births per live patch a frame", "patches are born and fade all the time (popping)",
-     [](const MetricRow& r) { return value_of(r, "birth_rate"); }},
+     [](const MetricRow& r) { return value_of(r, "birth_rate"); }, Aggregate::MeanAfterFirst, false, &T::churn_good,
+     &T::churn_bad},
     {"distortion", "distortion", "95th percentile of the patch triangles' D_T (1 = undistorted)",
-     "the texture is stretched or squeezed", [](const MetricRow& r) { return value_of(r, "distortion_p95"); }},
+     "the texture is stretched or squeezed", [](const MetricRow& r) { return value_of(r, "distortion_p95"); },
+     Aggregate::Mean, false, &T::distortion_good, &T::distortion_bad},
 };
-
-std::pair<double, double> bounds_of(const EvalThresholds& t, const std::string& key) {
-  if (key == "coverage") return {t.uncovered_good, t.uncovered_bad};
-  if (key == "warping") return {t.warping_good, t.warping_bad};
-  if (key == "flow") return {t.flow_good, t.flow_bad};
-  if (key == "ghosting") return {t.ghosting_good, t.ghosting_bad};
-  if (key == "contrast") return {t.contrast_good, t.contrast_bad};
-  if (key == "churn") return {t.churn_good, t.churn_bad};
-  return {t.distortion_good, t.distortion_bad};
-}
 
 Grade grade_of(double value, double good, double bad) {
   if (std::isnan(value) || value <= good) return Grade::Good;
   return value > bad ? Grade::Bad : Grade::Warn;
 }
 
-/// The shot's value of `m`: the largest frame's for coverage, the summed
-/// ratio for the flow error, the mean of the frames' values otherwise
-/// (churn without the first frame, whose disks are all new).
+/// The shot's value of `m` (Aggregate); NaN when no frame has it.
 double shot_value(const Measure& m, const std::vector<MetricRow>& rows) {
-  const std::string key = m.key;
-  double sum = 0.0, other = 0.0, largest = -1.0;
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0, other = 0.0, largest = -std::numeric_limits<double>::infinity();
   int n = 0;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (key == "churn" && i == 0) continue;
-    if (key == "flow") {
-      const double e = value_of(rows[i], "flow_slow_endpoint_px"), s = value_of(rows[i], "flow_slow_speed_px");
-      if (std::isfinite(e) && std::isfinite(s)) sum += e, other += s, ++n;
-      continue;
-    }
-    if (key == "contrast") {  // the mean σ ratio's distance from 1
-      const double c = value_of(rows[i], "contrast_g");
-      if (std::isfinite(c)) sum += c, ++n;
+  for (std::size_t i = m.how == Aggregate::MeanAfterFirst ? 1 : 0; i < rows.size(); ++i) {
+    if (m.how == Aggregate::SummedRatio || m.how == Aggregate::MeanFromOne) {
+      const double c = value_of(rows[i], m.column);
+      const double d = m.how == Aggregate::SummedRatio ? value_of(rows[i], m.denominator) : 1.0;
+      if (std::isfinite(c) && std::isfinite(d)) sum += c, other += d, ++n;
       continue;
     }
     const double v = m.per_frame(rows[i]);
-    if (std::isnan(v)) continue;
-    sum += v, ++n, largest = std::max(largest, v);
+    if (!std::isnan(v)) sum += v, ++n, largest = std::max(largest, v);
   }
-  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
-  if (key == "coverage") return largest;
-  if (key == "flow") return other > 0.0 ? sum / other : std::numeric_limits<double>::quiet_NaN();
-  if (key == "contrast") return std::abs(sum / n - 1.0);
-  return sum / n;
+  if (n == 0) return none;
+  switch (m.how) {
+    case Aggregate::Largest: return largest;
+    case Aggregate::SummedRatio: return other > 0.0 ? sum / other : none;
+    case Aggregate::MeanFromOne: return std::abs(sum / n - 1.0);
+    default: return sum / n;
+  }
 }
 
 std::string figure_text(double v) {
@@ -143,13 +150,13 @@ Verdict judge(const std::vector<MetricRow>& rows, const EvalThresholds& threshol
   for (const Measure& m : kMeasures) {
     VerdictFigure f;
     f.key = m.key, f.name = m.name, f.unit = m.unit, f.meaning = m.meaning;
-    std::tie(f.good, f.bad) = bounds_of(thresholds, f.key);
+    f.good = thresholds.*m.good, f.bad = thresholds.*m.bad;
     f.value = shot_value(m, rows);
     f.grade = grade_of(f.value, f.good, f.bad);
     verdict.grade = std::max(verdict.grade, f.grade);
     verdict.figures.push_back(f);
     // Runs of consecutive frames where this figure is bad.
-    if (f.key == "churn" || f.key == "contrast" || f.key == "distortion") continue;  // judged per shot
+    if (!m.ranges) continue;  // judged over the shot only
     VerdictRange open;
     bool in_range = false;
     auto close = [&] {

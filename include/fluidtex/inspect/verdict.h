@@ -36,75 +36,53 @@ struct EvalThresholds {
   double distortion_good = 3.5, distortion_bad = 5.0;
 
   template <class Self, class F>
-  static void for_each_option(Self& o, F&& f) {
-    const Bounds share = between(0, 1), positive = at_least(0);
-    const char* g = "Verdict thresholds";
-    f(OptionInfo{.name = "uncovered-good",
-                 .help = "Bare surface share that still counts as good",
-                 .bounds = share,
-                 .group = g},
-      o.uncovered_good);
-    f(OptionInfo{.name = "uncovered-bad",
-                 .help = "Bare surface share above which a shot is bad",
-                 .bounds = share,
-                 .group = g},
-      o.uncovered_bad);
-    f(
-        OptionInfo{
-            .name = "warping-good", .help = "Warping ratio up to which a shot is good", .bounds = positive, .group = g},
-        o.warping_good);
-    f(
-        OptionInfo{
-            .name = "warping-bad", .help = "Warping ratio above which a shot is bad", .bounds = positive, .group = g},
-        o.warping_bad);
-    f(OptionInfo{.name = "flow-good", .help = "Flow error up to which a shot is good", .bounds = positive, .group = g},
-      o.flow_good);
-    f(OptionInfo{.name = "flow-bad", .help = "Flow error above which a shot is bad", .bounds = positive, .group = g},
-      o.flow_bad);
-    f(OptionInfo{.name = "ghosting-good",
-                 .help = "Patches blended per texel up to which a shot is good",
-                 .bounds = positive,
-                 .group = g},
-      o.ghosting_good);
-    f(OptionInfo{.name = "ghosting-bad",
-                 .help = "Patches blended per texel above which a shot is bad",
-                 .bounds = positive,
-                 .group = g},
-      o.ghosting_bad);
-    f(OptionInfo{.name = "contrast-good",
-                 .help = "Contrast change |σ ratio − 1| up to which a shot is good",
-                 .bounds = positive,
-                 .group = g},
-      o.contrast_good);
-    f(OptionInfo{.name = "contrast-bad",
-                 .help = "Contrast change |σ ratio − 1| above which a shot is bad",
-                 .bounds = positive,
-                 .group = g},
-      o.contrast_bad);
-    f(OptionInfo{.name = "churn-good",
-                 .help = "Births per live patch a frame up to which a shot is good",
-                 .bounds = positive,
-                 .group = g},
-      o.churn_good);
-    f(OptionInfo{.name = "churn-bad",
-                 .help = "Births per live patch a frame above which a shot is bad",
-                 .bounds = positive,
-                 .group = g},
-      o.churn_bad);
-    f(OptionInfo{.name = "distortion-good",
-                 .help = "95th percentile of D_T up to which a shot is good",
-                 .bounds = positive,
-                 .group = g},
-      o.distortion_good);
-    f(OptionInfo{.name = "distortion-bad",
-                 .help = "95th percentile of D_T above which a shot is bad",
-                 .bounds = positive,
-                 .group = g},
-      o.distortion_bad);
-  }
+  static void for_each_option(Self& o, F&& f);
   /// InputError for a bound out of range or a good threshold above its bad one.
   void validate() const;
 };
+
+/// One figure's two bounds as options: NAME-good and NAME-bad.
+struct ThresholdOption {
+  const char* good_name;
+  const char* good_help;
+  const char* bad_name;
+  const char* bad_help;
+  Bounds bounds;
+  double EvalThresholds::*good;
+  double EvalThresholds::*bad;
+};
+
+inline constexpr ThresholdOption kThresholdOptions[] = {
+    {"uncovered-good", "Bare surface share that still counts as good", "uncovered-bad",
+     "Bare surface share above which a shot is bad", between(0, 1), &EvalThresholds::uncovered_good,
+     &EvalThresholds::uncovered_bad},
+    {"warping-good", "Warping ratio up to which a shot is good", "warping-bad",
+     "Warping ratio above which a shot is bad", at_least(0), &EvalThresholds::warping_good,
+     &EvalThresholds::warping_bad},
+    {"flow-good", "Flow error up to which a shot is good", "flow-bad", "Flow error above which a shot is bad",
+     at_least(0), &EvalThresholds::flow_good, &EvalThresholds::flow_bad},
+    {"ghosting-good", "Patches blended per texel up to which a shot is good", "ghosting-bad",
+     "Patches blended per texel above which a shot is bad", at_least(0), &EvalThresholds::ghosting_good,
+     &EvalThresholds::ghosting_bad},
+    {"contrast-good", "Contrast change |σ ratio − 1| up to which a shot is good", "contrast-bad",
+     "Contrast change |σ ratio − 1| above which a shot is bad", at_least(0), &EvalThresholds::contrast_good,
+     &EvalThresholds::contrast_bad},
+    {"churn-good", "Births per live patch a frame up to which a shot is good", "churn-bad",
+     "Births per live patch a frame above which a shot is bad", at_least(0), &EvalThresholds::churn_good,
+     &EvalThresholds::churn_bad},
+    {"distortion-good", "95th percentile of D_T up to which a shot is good", "distortion-bad",
+     "95th percentile of D_T above which a shot is bad", at_least(0), &EvalThresholds::distortion_good,
+     &EvalThresholds::distortion_bad},
+};
+
+template <class Self, class F>
+void EvalThresholds::for_each_option(Self& o, F&& f) {
+  for (const ThresholdOption& t : kThresholdOptions) {
+    f(OptionInfo{.name = t.good_name, .help = t.good_help, .bounds = t.bounds, .group = "Verdict thresholds"},
+      o.*t.good);
+    f(OptionInfo{.name = t.bad_name, .help = t.bad_help, .bounds = t.bounds, .group = "Verdict thresholds"}, o.*t.bad);
+  }
+}
 
 /// The option table of `t` (command line and `--thresholds` files).
 std::vector<OptionRef> option_table(EvalThresholds& t);
