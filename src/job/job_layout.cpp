@@ -8,14 +8,21 @@
 
 namespace fluidtex {
 
-std::vector<std::string> frame_output_patterns(const JobOptions& options) {
-  std::vector<std::string> patterns = {options.output.atlas(), options.output.mesh()};
-  if (lower_extension(patterns[1]) == ".obj") patterns.push_back(material_pattern(patterns[1]));
-  for (const std::string& map : {options.output.displacement(), options.output.normal()}) {
-    if (!map.empty()) patterns.push_back(map);
-  }
+std::vector<FrameOutput> labelled_frame_outputs(const JobOptions& options) {
+  std::vector<FrameOutput> outputs = {{options.output.atlas(), "--atlas"}, {options.output.mesh(), "--mesh"}};
+  if (lower_extension(options.output.mesh()) == ".obj")
+    outputs.push_back({material_pattern(options.output.mesh()), "the material of --mesh"});
+  if (!options.output.displacement().empty())
+    outputs.push_back({options.output.displacement(), "--displacement-atlas"});
+  if (!options.output.normal().empty()) outputs.push_back({options.output.normal(), "--normal-atlas"});
   for (const std::string& layer : options.synthesis.aov)
-    patterns.push_back(options.output.dir + "/aov/" + layer + ".####.exr");
+    outputs.push_back({options.output.dir + "/aov/" + layer + ".####.exr", "--aov " + layer});
+  return outputs;
+}
+
+std::vector<std::string> frame_output_patterns(const JobOptions& options) {
+  std::vector<std::string> patterns;
+  for (const FrameOutput& o : labelled_frame_outputs(options)) patterns.push_back(o.pattern);
   return patterns;
 }
 
@@ -59,15 +66,7 @@ void check_output_paths(const JobOptions& options) {
     return fs::absolute(FramePattern(pattern).path(1)).lexically_normal().string();
   };
   std::vector<std::pair<std::string, std::string>> outputs;  // file, what writes it
-  const char* const names[] = {"--atlas", "--mesh"};
-  const std::vector<std::string> patterns = frame_output_patterns(options);
-  for (std::size_t i = 0; i < patterns.size(); ++i) {
-    std::string what = i < 2 ? names[i] : "the output " + patterns[i];
-    if (patterns[i] == options.output.displacement()) what = "--displacement-atlas";
-    if (patterns[i] == options.output.normal()) what = "--normal-atlas";
-    if (i == 2 && lower_extension(patterns[1]) == ".obj") what = "the material of --mesh";
-    outputs.emplace_back(file_of(patterns[i]), what);
-  }
+  for (const FrameOutput& o : labelled_frame_outputs(options)) outputs.emplace_back(file_of(o.pattern), o.what);
   outputs.emplace_back(file_of(state_pattern(options.output.dir)), "the state files");
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {

@@ -14,8 +14,17 @@
 
 namespace fluidtex {
 
-/// The patterns of the files a job writes per frame besides its state: the
-/// atlas, the UV mesh (and its material for an OBJ), the AOVs.
+/// A file a job writes per frame, and the option (or what) that names it.
+struct FrameOutput {
+  std::string pattern;
+  std::string what;  ///< "--atlas", "the material of --mesh", "--aov weight", ...
+};
+
+/// The files a job writes per frame besides its state: the atlas, the UV
+/// mesh (and its material for an OBJ), the height and normal atlases, the AOVs.
+std::vector<FrameOutput> labelled_frame_outputs(const JobOptions& options);
+
+/// Their patterns alone.
 std::vector<std::string> frame_output_patterns(const JobOptions& options);
 
 /// The material file next to an OBJ pattern (`mesh.####.obj` → `mesh.####.mtl`).
