@@ -25,29 +25,49 @@ std::string roff(const std::string& text) {
   return out;
 }
 
-/// "\fB\-i\fR, \fB\-\-input\fR \fITEXT\fR" for an option, "\fIRUN\fR" for a
-/// positional argument.
-std::string option_heading(const CLI::Option& opt) {
-  if (opt.get_positional() && !opt.nonpositional()) return "\\fI" + roff(opt.get_name(true)) + "\\fR";
-  std::string names, all = opt.get_name(false, true);
-  std::stringstream split(all);
+std::string plain(const std::string& text) { return text; }
+
+/// How one form marks an option's names and value type up.
+struct Markup {
+  std::string (*text)(const std::string&);  ///< escapes text for the form
+  const char* name_open;
+  const char* name_close;
+  const char* arg_open;
+  const char* arg_close;
+};
+const Markup kRoff{roff, "\\fB", "\\fR", "\\fI", "\\fR"};
+const Markup kMarkdown{plain, "`", "`", "*", "*"};
+
+/// "-i, --input TEXT" marked up for an option, "RUN" for a positional argument.
+std::string heading(const CLI::Option& opt, const Markup& m) {
+  if (opt.get_positional() && !opt.nonpositional()) return m.arg_open + m.text(opt.get_name(true)) + m.arg_close;
+  std::string names;
+  std::stringstream split(opt.get_name(false, true));
   for (std::string name; std::getline(split, name, ',');) {
     if (!names.empty()) names += ", ";
-    names += "\\fB" + roff(name) + "\\fR";
+    names += m.name_open + m.text(name) + m.name_close;
   }
   const std::string type = opt.get_type_name();
-  if (opt.get_type_size() != 0 && !type.empty()) names += " \\fI" + roff(type) + "\\fR";
+  if (opt.get_type_size() != 0 && !type.empty()) names += " " + (m.arg_open + m.text(type)) + m.arg_close;
   return names;
 }
 
-void write_options(std::ostringstream& out, const CLI::App& app) {
+/// Each option of `app` that --help shows: f(option, its default, empty for
+/// a flag or an option without one).
+template <class F>
+void each_option(const CLI::App& app, F&& f) {
   for (const CLI::Option* opt : app.get_options()) {
     if (opt->get_group().empty()) continue;
-    out << ".TP\n" << option_heading(*opt) << "\n" << roff(opt->get_description());
-    const std::string def = opt->get_default_str();
-    if (!def.empty() && opt->get_type_size() != 0) out << " (default: " << roff(def) << ")";
-    out << "\n";
+    f(*opt, opt->get_type_size() != 0 ? opt->get_default_str() : std::string());
   }
+}
+
+void write_options(std::ostringstream& out, const CLI::App& app) {
+  each_option(app, [&](const CLI::Option& opt, const std::string& def) {
+    out << ".TP\n" << heading(opt, kRoff) << "\n" << roff(opt.get_description());
+    if (!def.empty()) out << " (default: " << roff(def) << ")";
+    out << "\n";
+  });
 }
 
 }  // namespace
@@ -97,31 +117,15 @@ std::string man_page(const CLI::App& app, const std::string& version) {
 
 namespace {
 
-/// "`-i`, `--input` *TEXT*" for an option, "*RUN*" for a positional argument.
-std::string markdown_heading(const CLI::Option& opt) {
-  if (opt.get_positional() && !opt.nonpositional()) return "*" + opt.get_name(true) + "*";
-  std::string names, all = opt.get_name(false, true);
-  std::stringstream split(all);
-  for (std::string name; std::getline(split, name, ',');) {
-    if (!names.empty()) names += ", ";
-    names += "`" + name + "`";
-  }
-  const std::string type = opt.get_type_name();
-  if (opt.get_type_size() != 0 && !type.empty()) names += " *" + type + "*";
-  return names;
-}
-
 void markdown_options(std::ostringstream& out, const CLI::App& app) {
-  for (const CLI::Option* opt : app.get_options()) {
-    if (opt->get_group().empty()) continue;
-    std::string help = opt->get_description();
+  each_option(app, [&](const CLI::Option& opt, const std::string& def) {
+    std::string help = opt.get_description();
     for (char& c : help)
       if (c == '\n') c = ' ';
-    out << "- " << markdown_heading(*opt) << ": " << help;
-    const std::string def = opt->get_default_str();
-    if (!def.empty() && opt->get_type_size() != 0) out << " (default: `" << def << "`)";
+    out << "- " << heading(opt, kMarkdown) << ": " << help;
+    if (!def.empty()) out << " (default: `" << def << "`)";
     out << "\n";
-  }
+  });
 }
 
 }  // namespace
