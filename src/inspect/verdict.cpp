@@ -129,12 +129,10 @@ std::string range_text(int first, int last) {
 
 void EvalThresholds::validate() const {
   check_options(*this);
-  EvalThresholds copy = *this;
-  const std::vector<OptionRef> table = option_table(copy);
-  for (std::size_t i = 0; i + 1 < table.size(); i += 2) {
-    if (std::stod(table[i].text()) > std::stod(table[i + 1].text()))
-      throw InputError("", "--" + std::string(table[i].info.name) + " " + table[i].text() + " is above --" +
-                               table[i + 1].info.name + " " + table[i + 1].text());
+  for (const ThresholdOption& t : kThresholdOptions) {
+    if (this->*t.good > this->*t.bad)
+      throw InputError("", "--" + std::string(t.good_name) + " " + option_detail::format_number(this->*t.good) +
+                               " is above --" + t.bad_name + " " + option_detail::format_number(this->*t.bad));
   }
 }
 
