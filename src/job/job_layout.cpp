@@ -12,11 +12,13 @@ std::vector<FrameOutput> labelled_frame_outputs(const JobOptions& options) {
   std::vector<FrameOutput> outputs = {{options.output.atlas(), "--atlas"}, {options.output.mesh(), "--mesh"}};
   if (lower_extension(options.output.mesh()) == ".obj")
     outputs.push_back({material_pattern(options.output.mesh()), "the material of --mesh"});
-  if (!options.output.displacement().empty())
-    outputs.push_back({options.output.displacement(), "--displacement-atlas"});
-  if (!options.output.normal().empty()) outputs.push_back({options.output.normal(), "--normal-atlas"});
-  for (const std::string& layer : options.synthesis.aov)
-    outputs.push_back({options.output.dir + "/aov/" + layer + ".####.exr", "--aov " + layer});
+  for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
+    const FrameLayer& layer = kFrameLayers[i];
+    std::string pattern = options.layer_pattern(i);
+    if (!pattern.empty())
+      outputs.push_back(
+          {std::move(pattern), layer.option ? "--" + std::string(layer.option) : "--aov " + std::string(layer.name)});
+  }
   return outputs;
 }
 
@@ -45,15 +47,8 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
   namespace fs = std::filesystem;
   const fs::path out(options.output.dir);
   std::size_t stale = 0;
-  std::vector<fs::path> dirs = {out,
-                                out / "state",
-                                out / "aov",
-                                out / "stats",
-                                fs::path(options.output.atlas()).parent_path(),
-                                fs::path(options.output.mesh()).parent_path()};
-  for (const std::string& map : {options.output.displacement(), options.output.normal()}) {
-    if (!map.empty()) dirs.push_back(fs::path(map).parent_path());
-  }
+  std::vector<fs::path> dirs = {out, out / "state", out / "aov", out / "stats"};
+  for (const std::string& pattern : frame_output_patterns(options)) dirs.push_back(fs::path(pattern).parent_path());
   for (const fs::path& dir : dirs) stale += remove_stale_temporaries(dir.empty() ? "." : dir, owned);
   return stale;
 }

@@ -35,15 +35,16 @@ std::string OutputOptions::mesh() const {
   return checked_pattern(mesh_pattern, dir + "/mesh.####.obj", {".obj", ".ply"}, "--mesh");
 }
 
-// Heights and normals are data, not colour: EXR keeps them linear (PNG and
-// TIFF atlases are sRGB-encoded).
-std::string OutputOptions::displacement() const {
-  return displacement_pattern.empty() ? std::string()
-                                      : checked_pattern(displacement_pattern, "", {".exr"}, "--displacement-atlas");
-}
-
-std::string OutputOptions::normal() const {
-  return normal_pattern.empty() ? std::string() : checked_pattern(normal_pattern, "", {".exr"}, "--normal-atlas");
+// The layers are data, not colour: EXR keeps them linear (PNG and TIFF
+// atlases are sRGB-encoded).
+std::string JobOptions::layer_pattern(std::size_t layer) const {
+  const FrameLayer& l = kFrameLayers[layer];
+  if (l.option) {
+    const std::string& given = output.layer_patterns[layer];
+    return given.empty() ? std::string() : checked_pattern(given, "", {".exr"}, ("--" + std::string(l.option)).c_str());
+  }
+  const bool asked = std::find(synthesis.aov.begin(), synthesis.aov.end(), l.name) != synthesis.aov.end();
+  return asked ? output.dir + "/aov/" + l.name + ".####.exr" : std::string();
 }
 
 void SynthesisJobOptions::validate() const {
@@ -61,10 +62,10 @@ void JobOptions::validate() const {
   if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
   (void)output.atlas();
   (void)output.mesh();
-  (void)output.displacement();
-  (void)output.normal();
-  if ((!output.displacement_pattern.empty() || !output.normal_pattern.empty()) && synthesis.track_only) {
-    throw InputError("", "--displacement-atlas/--normal-atlas: a tracking step (--track-only) writes no atlas");
+  for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
+    if (!layer_pattern(i).empty() && kFrameLayers[i].option && synthesis.track_only)
+      throw InputError("",
+                       "--" + std::string(kFrameLayers[i].option) + ": a tracking step (--track-only) writes no atlas");
   }
   if (synthesis.compression != SynthesisJobOptions{}.compression && lower_extension(output.atlas()) != ".exr") {
     throw InputError("", "--compression: applies to EXR atlases, not " + output.atlas());

@@ -199,7 +199,7 @@ std::vector<fs::path> existing_job_outputs(const JobOptions& options) {
   add_pattern(state_pattern(options.output.dir));
   // Every AOV layer, not only this job's: an earlier job may have had others.
   JobOptions all_layers = options;
-  all_layers.synthesis.aov = option_detail::split_choices(kAovLayers);
+  all_layers.synthesis.aov = option_detail::split_choices(aov_layer_names());
   for (const std::string& pattern : frame_output_patterns(all_layers)) add_pattern(pattern);
   for (const char* view : {"patches", "disks"}) add_pattern((out / "debug" / view).string() + ".####.ply");
   for (const char* name : {"metrics.jsonl", "summary.json", "report.html"}) add_file(out / "eval" / name);

@@ -18,9 +18,9 @@
 #include "fluidtex/io/stats.h"
 #include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/debug_views.h"
+#include "fluidtex/job/frame_layers.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"
-#include "fluidtex/texture/maps.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
@@ -72,27 +72,23 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
 
 namespace {
 
-/// The height and normal atlases of a frame (--displacement-atlas,
-/// --normal-atlas), written as data: linear, no colour space; returns the
-/// material's maps for the OBJ.
-MaterialMaps write_surface_maps(const JobOptions& options, int frame, const Atlas& atlas, const TexelMap& map,
-                                const Image& color, const ImageWriteOptions& color_write, double tile_size) {
+/// The frame's layers (kFrameLayers) that the job writes, each with its
+/// pixel encoding; returns the material's maps for the OBJ.
+MaterialMaps write_frame_layers(const JobOptions& options, int frame, const FrameSynthesis& textured,
+                                const ImageWriteOptions& color_write) {
   MaterialMaps maps(std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string());
-  const std::string displacement = options.output.displacement(), normal = options.output.normal();
-  if (displacement.empty() && normal.empty()) return maps;
-  maps.bump_height = options.synthesis.bump_height * tile_size;
-  ImageWriteOptions write = color_write;
-  write.data = true;
-  const Image height = height_map(color);
-  if (!displacement.empty()) {
-    maps.displacement = std::filesystem::absolute(FramePattern(displacement).path(frame)).string();
-    write.channel_names = {"Y"};
-    write_image(maps.displacement, height, write);
-  }
-  if (!normal.empty()) {
-    maps.normal = std::filesystem::absolute(FramePattern(normal).path(frame)).string();
-    write.channel_names = {"R", "G", "B"};
-    write_image(maps.normal, normal_map(height, map, atlas, maps.bump_height), write);
+  for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
+    const std::string pattern = options.layer_pattern(i);
+    if (pattern.empty()) continue;
+    const FrameLayer& layer = kFrameLayers[i];
+    const std::string path = std::filesystem::absolute(FramePattern(pattern).path(frame)).string();
+    write_image(path, layer.make(textured), layer_write_options(layer, color_write));
+    if (layer.slot == MaterialSlot::Height) {
+      maps.displacement = path;
+      maps.bump_height = textured.bump_height;
+    } else if (layer.slot == MaterialSlot::Normal) {
+      maps.normal = path;
+    }
   }
   return maps;
 }
@@ -129,16 +125,11 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
                     {"fluidtex:frame", std::to_string(frame)},
                     {"fluidtex:settings", options.output.provenance}};
   write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
-  for (const std::string& layer : so.aov) {
-    const Image& image = layer == "weight" ? result.weight : layer == "count" ? result.count : result.patch;
-    ImageWriteOptions aov_write;
-    aov_write.depth = layer == "patch" ? PixelDepth::Default : PixelDepth::Float;
-    write_image(FramePattern(options.output.dir + "/aov/" + layer + ".####.exr").path(frame), image, aov_write);
-  }
   // An OBJ names its atlas through a material (<stem>.mtl, map_Kd; disp,
   // bump and norm for the height and normal atlases), so a DCC imports it
   // textured.
-  const MaterialMaps maps = write_surface_maps(options, frame, atlas, map, result.color, write, tile_size);
+  const MaterialMaps maps =
+      write_frame_layers(options, frame, FrameSynthesis{atlas, map, result, so.bump_height * tile_size}, write);
   write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas), maps);
   stats.seconds.emplace_back("write", seconds_since(t0));
 

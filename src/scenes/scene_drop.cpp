@@ -27,7 +27,8 @@
 #include <cmath>
 
 #include "fluidtex/util/error.h"
-#include "scene_detail.h"
+#include "scene_drop.h"
+#include "scene_volume.h"
 
 namespace fluidtex::detail {
 
@@ -46,7 +47,7 @@ struct DropScene {
   double gravity = 1.0;
 
   explicit DropScene(const SceneOptions& options) {
-    t_contact = 0.5 * sequence_duration(options);
+    t_contact = 0.5 * options.duration();
     gravity = 2.0 * fall_height / (t_contact * t_contact);
   }
 
@@ -92,7 +93,7 @@ struct DropScene {
 
 FrameMesh make_drop_frame(int frame, const SceneOptions& options) {
   const DropScene scene(options);
-  const double t = frame_time(frame, options);
+  const double t = options.time_of(frame);
   double z = 0.0, vz = 0.0;
   scene.drop_motion(t, z, vz);
 

@@ -33,7 +33,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "scene_detail.h"
+#include "scene_pour.h"
+#include "scene_volume.h"
 
 namespace fluidtex::detail {
 
@@ -115,7 +116,7 @@ struct PourScene {
 
 FrameMesh make_pour_frame(int frame, const SceneOptions& options) {
   const PourScene scene;
-  const double t = frame_time(frame, options);
+  const double t = options.time_of(frame);
   FrameMesh mesh = mesh_distance_field([&](const Vec3& p) { return scene.sdf(p, t); }, scene.pool.lo(),
                                        scene.pool.hi(scene.nozzle), volume_voxel_size(options));
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.velocities[v] = scene.velocity(mesh.positions[v], t);

@@ -6,7 +6,7 @@
 #include <openvdb/tools/SignedFloodFill.h>
 
 #include "fluidtex/geometry/level_set.h"
-#include "scene_detail.h"
+#include "scene_volume.h"
 
 namespace fluidtex::detail {
 

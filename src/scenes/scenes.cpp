@@ -25,7 +25,9 @@
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/options.h"
-#include "scene_detail.h"
+#include "scene_drop.h"
+#include "scene_pour.h"
+#include "scene_volume.h"
 
 namespace fluidtex {
 
@@ -329,8 +331,8 @@ struct MergeFlow {
 
 FrameMesh make_merge(int frame, const SceneOptions& options) {
   MergeFlow flow;
-  flow.T = detail::sequence_duration(options);
-  const double t = detail::frame_time(frame, options);
+  flow.T = options.duration();
+  const double t = options.time_of(frame);
   const Vec2 lo(-1.4, -1.4), hi(1.4, 1.4);
   const double h = (hi - lo).maxCoeff() / options.resolution;
   FrameMesh mesh = mesh_implicit_2d([&](const Vec2& p) { return flow.implicit(p, t); }, lo, hi, h);

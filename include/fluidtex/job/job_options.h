@@ -6,12 +6,15 @@
 /// run_job, read back by `fluidtex eval`) all come from it.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/job/frame_layers.h"
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/flowmap.h"
 #include "fluidtex/texture/synthesis.h"
@@ -30,11 +33,12 @@ inline constexpr EnumName<KeepState> kKeepStateNames[] = {{KeepState::All, "all"
 constexpr const auto& enum_names(KeepState) { return kKeepStateNames; }
 
 struct OutputOptions {
-  std::string dir;                        ///< -o: output folder
-  std::string atlas_pattern;              ///< --atlas; empty = DIR/atlas.####.exr
-  std::string mesh_pattern;               ///< --mesh; empty = DIR/mesh.####.obj
-  std::string displacement_pattern;       ///< --displacement-atlas; empty = none
-  std::string normal_pattern;             ///< --normal-atlas; empty = none
+  std::string dir;            ///< -o: output folder
+  std::string atlas_pattern;  ///< --atlas; empty = DIR/atlas.####.exr
+  std::string mesh_pattern;   ///< --mesh; empty = DIR/mesh.####.obj
+  /// The patterns of the layers with an option of their own (kFrameLayers:
+  /// --displacement-atlas, --normal-atlas), by layer; empty = not written.
+  std::array<std::string, kFrameLayerCount> layer_patterns;
   bool resume = false;                    ///< --resume: continue the job in OUT after its last complete frame
   bool force = false;                     ///< --force: replace another job's outputs in OUT
   KeepState keep_state = KeepState::All;  ///< --keep-state
@@ -48,9 +52,6 @@ struct OutputOptions {
   /// pattern has no frame token or an unsupported extension.
   std::string atlas() const;
   std::string mesh() const;
-  /// The height and normal atlas patterns (EXR), empty when not written.
-  std::string displacement() const;
-  std::string normal() const;
 
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
@@ -64,16 +65,11 @@ struct OutputOptions {
                  .help = "UV mesh file pattern (.obj, .ply) (default: OUT/mesh.####.obj)",
                  .role = OptionRole::OutputPath},
       o.mesh_pattern);
-    f(OptionInfo{.name = "displacement-atlas",
-                 .help = "Also write a height atlas (the colour's luminance, one channel, .exr) to this pattern, "
-                         "named by the OBJ's material as disp and bump",
-                 .role = OptionRole::OutputPath},
-      o.displacement_pattern);
-    f(OptionInfo{.name = "normal-atlas",
-                 .help = "Also write a tangent-space normal atlas (from the height, --bump-height; .exr) to this "
-                         "pattern, named by the OBJ's material as norm",
-                 .role = OptionRole::OutputPath},
-      o.normal_pattern);
+    for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
+      const FrameLayer& layer = kFrameLayers[i];
+      if (layer.option)
+        f(OptionInfo{.name = layer.option, .help = layer.help, .role = OptionRole::OutputPath}, o.layer_patterns[i]);
+    }
     f(OptionInfo{.name = "resume",
                  .help = "Continue the job in OUT after its last complete frame (refused when an option that "
                          "changes the output, the exemplar or the build differs from OUT/job.toml)",
@@ -96,16 +92,13 @@ struct OutputOptions {
   }
 };
 
-/// The layers --aov can add (OUT/aov/LAYER.####.exr).
-inline constexpr const char* kAovLayers = "weight, count, patch";
-
 /// How each frame's atlas is made and written (Sec. 6.4).
 struct SynthesisJobOptions {
   AtlasOptions atlas;
   Blend blend = Blend::ContrastPreserving;           ///< --blend
   double weight_cutoff = 0.1;                        ///< --weight-cutoff (SynthesisOptions::weight_cutoff)
   SynthesisMethod method = SynthesisMethod::Raster;  ///< --synthesis
-  std::vector<std::string> aov;                      ///< --aov: weight, count, patch
+  std::vector<std::string> aov;                      ///< --aov: the AOV layers of kFrameLayers
   bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
   bool float_output = false;                         ///< --float: 32-bit EXR/TIFF instead of half / 16-bit
   ExrCompression compression = ExrCompression::Piz;  ///< --compression (EXR atlases)
@@ -129,10 +122,7 @@ struct SynthesisJobOptions {
                  .help = "raster: patch triangles rasterised in atlas space; exact: per-texel projection "
                          "(reference, slow)"},
       o.method);
-    f(OptionInfo{.name = "aov",
-                 .help = "Extra atlas layers in OUT/aov/: weight (sum w), count (patches per texel), patch",
-                 .choices = kAovLayers},
-      o.aov);
+    f(OptionInfo{.name = "aov", .help = aov_layer_help(), .choices = aov_layer_names()}, o.aov);
     f(OptionInfo{.name = "displacement", .help = "Write a one-channel height atlas (the exemplar is turned to grey)"},
       o.displacement);
     f(OptionInfo{.name = "float", .help = "32-bit float EXR/TIFF instead of half / 16-bit"}, o.float_output);
@@ -185,6 +175,11 @@ struct JobOptions {
   /// InputError for any bad option, and for options the method does not
   /// have (flowmap: --resume, --track-only, --debug-views).
   void validate() const;
+
+  /// The file pattern of kFrameLayers[layer] (its option's, or an AOV's
+  /// OUT/aov/NAME.####.exr), empty when the job does not write it;
+  /// InputError for a pattern without a frame token or not EXR.
+  std::string layer_pattern(std::size_t layer) const;
 };
 
 /// The job's options bound to `o`, for the command line and config files.

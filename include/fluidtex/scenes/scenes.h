@@ -46,22 +46,9 @@
 #include <vector>
 
 #include "fluidtex/geometry/mesh.h"
+#include "fluidtex/scenes/scene_options.h"
 
 namespace fluidtex {
-
-struct SceneOptions {
-  int frames = 48;    ///< number of frames written (1..frames)
-  double fps = 24.0;  ///< frame rate the velocities refer to
-  /// Mesh density: cells across the scene's extent (2D: grid cells across the
-  /// domain; 3D: voxels across the domain). Face counts grow as resolution²
-  /// for all scenes.
-  int resolution = 64;
-  /// File format written by write_scene: "ply" (x y z vx vy vz) or "vdb" (a
-  /// level set `surface` and a velocity grid `vel`; the 3D scenes only, drop
-  /// and pour, whose surfaces are closed).
-  std::string format = "ply";
-  bool staggered = false;  ///< vdb: write the velocity as a staggered (MAC) grid
-};
 
 /// Names accepted by make_scene_frame.
 std::vector<std::string> scene_names();

@@ -1,18 +1,14 @@
-// Internal interface between the scene generators (not installed).
+// The 3D scenes' level-set toolkit (scene_volume.cpp; not installed): a
+// distance field meshed through OpenVDB, the pool, smooth unions and the
+// velocity that carries a moving level set.
 #pragma once
 
 #include <functional>
 
 #include "fluidtex/geometry/mesh.h"
-#include "fluidtex/scenes/scenes.h"
+#include "fluidtex/scenes/scene_options.h"
 
 namespace fluidtex::detail {
-
-/// The `drop` scene (scene_drop.cpp): frame is 1-based and already validated.
-FrameMesh make_drop_frame(int frame, const SceneOptions& options);
-
-/// The `pour` scene (scene_pour.cpp): frame is 1-based and already validated.
-FrameMesh make_pour_frame(int frame, const SceneOptions& options);
 
 /// The voxel size of the 3D scenes' level sets (and of --format vdb).
 double volume_voxel_size(const SceneOptions& options);
@@ -50,18 +46,6 @@ Vec3 field_gradient(const DistanceField& field, const Vec3& p);
 /// v = v_b - (dF/dt + v_b . grad F) grad F / (|grad F|^2 + 0.1^2).
 inline Vec3 carry_level_set(const Vec3& vb, double df_dt, const Vec3& grad) {
   return vb - (df_dt + vb.dot(grad)) / (grad.squaredNorm() + 0.01) * grad;
-}
-
-/// Scene time of a 1-based frame: (frame - 1) / fps.
-inline double frame_time(int frame, const SceneOptions& options) {
-  return static_cast<double>(frame - 1) / options.fps;
-}
-
-/// Duration spanned by the sequence, never below one frame: the time of the
-/// last frame, (frames - 1) / fps, or 1 / fps for a single frame.
-inline double sequence_duration(const SceneOptions& options) {
-  const int steps = options.frames > 1 ? options.frames - 1 : 1;
-  return static_cast<double>(steps) / options.fps;
 }
 
 }  // namespace fluidtex::detail
