@@ -16,9 +16,13 @@ const char* age_bucket_name(int bucket) {
 }
 
 double fade_rate(int rho, int fade_frames, Fading fading, double motion) {
-  const double rate =
-      (fading == Fading::Linear ? 1.0 : static_cast<double>(rho) + 1.0) / static_cast<double>(fade_frames);
-  return fading == Fading::Flow && motion > rate ? motion : rate;
+  const double density = (static_cast<double>(rho) + 1.0) / static_cast<double>(fade_frames);  // Eq. 6
+  switch (fading) {
+    case Fading::Flow: return std::max(density, motion);
+    case Fading::Density: return density;
+    case Fading::Linear: return 1.0 / static_cast<double>(fade_frames);  // Eq. 5
+  }
+  return density;
 }
 
 FadeResult fade_step(DiskState state, double kt, int rho, int fade_frames, Fading fading, double motion,
