@@ -26,6 +26,8 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
+#include "fluidtex/job/frame_texturing.h"
+#include "fluidtex/job/job_layout.h"
 #include "fluidtex/texture/synthesis.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/surface_change.h"

@@ -9,9 +9,9 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/job/job_record.h"
-#include "fluidtex/job/pipeline.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/error.h"
 

@@ -10,15 +10,11 @@
 #include <optional>
 #include <utility>
 
-#include <oneapi/tbb/parallel_pipeline.h>
-
 #include "fluidtex/io/frame_pattern.h"
-#include "fluidtex/io/image_io.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
-#include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/debug_views.h"
-#include "fluidtex/job/frame_layers.h"
+#include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/tracking/patch_locator.h"
@@ -30,159 +26,6 @@
 #include "fluidtex/util/version.h"
 
 namespace fluidtex {
-
-Exemplar load_exemplar(const std::string& path, bool displacement) {
-  Image image = read_image(path);
-  if (displacement && image.channels >= 3) {
-    Image grey;
-    grey.width = image.width, grey.height = image.height, grey.channels = 1;
-    grey.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
-    for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
-      const float* p = &image.pixels[i * image.channels];
-      grey.pixels[i] = rec709_luminance(p[0], p[1], p[2]);
-    }
-    image = std::move(grey);
-  } else if (displacement && image.channels == 2) {
-    image.channels = 1;  // grey + alpha: keep grey
-    for (std::size_t i = 0; i < static_cast<std::size_t>(image.width) * image.height; ++i)
-      image.pixels[i] = image.pixels[2 * i];
-    image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
-  }
-  if (image.channels == 2) throw InputError(path, "exemplar has 2 channels (expected grey, RGB or RGBA)");
-  for (float v : image.pixels) {
-    if (!std::isfinite(v)) throw InputError(path, "exemplar has NaN or infinite pixels");
-  }
-  return Exemplar(std::move(image));
-}
-
-SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
-  SynthesisOptions synth;
-  synth.blend = so.blend;
-  synth.method = so.method;
-  synth.weight_cutoff = so.weight_cutoff;
-  synth.uv_scale = resolved.uv_scale;
-  synth.radius = resolved.d();
-  // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
-  // a tile, each patch a different part of it (its random anchor).
-  synth.tile_size = resolved.exemplar_tile_size();
-  synth.projection_tolerance = resolved.mpt();  // as the tracker's coverage test
-  synth.aov = !so.aov.empty();
-  return synth;
-}
-
-namespace {
-
-/// The frame's layers (kFrameLayers) that the job writes, each with its
-/// pixel encoding; returns the material's maps for the OBJ.
-MaterialMaps write_frame_layers(const JobOptions& options, int frame, const FrameSynthesis& textured,
-                                const ImageWriteOptions& color_write) {
-  MaterialMaps maps(std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string());
-  for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
-    const std::string pattern = options.layer_pattern(i);
-    if (pattern.empty()) continue;
-    const FrameLayer& layer = kFrameLayers[i];
-    const std::string path = std::filesystem::absolute(FramePattern(pattern).path(frame)).string();
-    write_image(path, layer.make(textured), layer_write_options(layer, color_write));
-    if (layer.slot == MaterialSlot::Height) {
-      maps.displacement = path;
-      maps.bump_height = textured.bump_height;
-    } else if (layer.slot == MaterialSlot::Normal) {
-      maps.normal = path;
-    }
-  }
-  return maps;
-}
-
-/// A frame's atlas, texel map, texels (`texels(atlas, map)`, either method)
-/// and writes, with the synthesis numbers and stage seconds in `stats`.
-/// `tile_size`: the exemplar's size on the surface (--bump-height's unit).
-template <class Texels>
-void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats, double tile_size,
-                 Texels&& texels) {
-  const SynthesisJobOptions& so = options.synthesis;
-  auto t0 = Clock::now();
-  const Atlas atlas = build_atlas(surface, so.atlas);
-  stats.seconds.emplace_back("atlas", seconds_since(t0));
-  t0 = Clock::now();
-  const TexelMap map = build_texel_map(surface, atlas);
-  const SynthesisResult result = texels(atlas, map);
-  const double synth_seconds = seconds_since(t0);
-  stats.seconds.emplace_back("synthesis", synth_seconds);
-
-  // A texel that is not finite is a bug, never an output (options bound the
-  // scales that could overflow).
-  for (float v : result.color.pixels) {
-    if (!std::isfinite(v)) throw InternalError("frame " + std::to_string(frame) + ": the atlas has non-finite texels");
-  }
-
-  t0 = Clock::now();
-  ImageWriteOptions write;
-  write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
-  write.compression = so.compression;
-  write.dwa_level = so.dwa_level;
-  write.layout = so.layout;
-  write.metadata = {{"fluidtex:version", version_line()},
-                    {"fluidtex:frame", std::to_string(frame)},
-                    {"fluidtex:settings", options.output.provenance}};
-  write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
-  // An OBJ names its atlas through a material (<stem>.mtl, map_Kd; disp,
-  // bump and norm for the height and normal atlases), so a DCC imports it
-  // textured.
-  const MaterialMaps maps =
-      write_frame_layers(options, frame, FrameSynthesis{atlas, map, result, so.bump_height * tile_size}, write);
-  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas), maps);
-  stats.seconds.emplace_back("write", seconds_since(t0));
-
-  stats.uncovered_fraction = result.uncovered_fraction();
-  stats.extra.emplace_back("packing_efficiency", atlas.packing_efficiency);
-  stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
-  stats.extra.emplace_back("chart_texels", static_cast<double>(result.chart_texels));
-  stats.extra.emplace_back("margin_texels", static_cast<double>(result.margin_texels));
-  stats.extra.emplace_back("binned_triangles", static_cast<double>(result.binned_triangles));
-  stats.extra.emplace_back("projected_triangles", static_cast<double>(result.projected_triangles));
-  stats.extra.emplace_back(
-      "clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
-  stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);
-}
-
-}  // namespace
-
-void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches, const TrackingOptions& resolved,
-                      const Exemplar& exemplar, const JobOptions& options, int frame, FrameStats& stats) {
-  atlas_frame(
-      surface, options, frame, stats, resolved.exemplar_tile_size(), [&](const Atlas& atlas, const TexelMap& map) {
-        return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
-      });
-}
-
-void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
-                              const JobOptions& options, int frame, FrameStats& stats, double tile_size) {
-  atlas_frame(surface, options, frame, stats, tile_size, [&](const Atlas& atlas, const TexelMap& map) {
-    return synthesize_flowmap(surface, atlas, map, flow, exemplar, options.synthesis.blend,
-                              !options.synthesis.aov.empty());
-  });
-}
-
-FrameReport frame_report(const char* step, const FrameStats& stats, Clock::time_point started, bool has_patches) {
-  FrameReport done;
-  done.step = step;
-  done.frame = stats.frame;
-  done.seconds = seconds_since(started);
-  if (has_patches) done.patches = stats.patches.total();
-  return done;
-}
-
-std::shared_ptr<const FrameMesh> read_frame_mesh(const Sequence& sequence, std::size_t index, FrameStats& stats,
-                                                 Reporter& reporter) {
-  stats.frame = sequence.frames()[index];
-  const ScopedStage stage(stats.seconds, "read");
-  CleanReport cleaned;
-  auto mesh = std::make_shared<const FrameMesh>(sequence.load(index, &cleaned));
-  if (cleaned.changed()) reporter.verbose(sequence.path_of(stats.frame) + ": " + cleaned.summary());
-  stats.vertices = mesh->num_vertices();
-  stats.faces = mesh->num_faces();
-  return mesh;
-}
 
 namespace {
 
@@ -536,6 +379,119 @@ void report_frame_rate(const Sequence& sequence, Reporter& reporter) {
   }
 }
 
+/// Which frames of `sequence` (the frames stepped through) are written:
+/// those of `written_frames`, not the ones a stepped range only follows.
+std::vector<char> written_flags(const Sequence& sequence, const Sequence& written_frames) {
+  std::vector<char> written(sequence.size());
+  const std::vector<int>& frames = written_frames.frames();
+  for (std::size_t i = 0; i < sequence.size(); ++i)
+    written[i] = std::binary_search(frames.begin(), frames.end(), sequence.frames()[i]);
+  return written;
+}
+
+/// The run's texturing method, its frames stamped with the job's settings
+/// hash (`stamped`); for the patch method from the state --resume finds
+/// (`first`: the index of the first frame to make, `summary.resumed_after`).
+std::unique_ptr<Texturing> start_texturing(const JobOptions& options, const JobOptions& stamped,
+                                           const Sequence& sequence, const std::vector<char>& written,
+                                           const std::optional<Exemplar>& exemplar, Reporter& reporter,
+                                           std::size_t& first, JobSummary& summary) {
+  if (options.method == TexturingMethod::FlowMap) return std::make_unique<FlowMapTexturing>(stamped, *exemplar);
+  std::string resumed_state;
+  Tracker tracker = start_tracker(options, sequence, written, reporter, first, summary, resumed_state);
+  return std::make_unique<PatchTexturing>(std::move(tracker), stamped, exemplar ? &*exemplar : nullptr,
+                                          std::move(resumed_state));
+}
+
+/// A run's frames through the frame pipeline (run_frames): the time step
+/// from the previous frame, the seconds of frames followed but not written
+/// (added to the next written one), the stats lines, and which frames have
+/// all their outputs, so that a failure leaves each frame complete or absent.
+class RunFrames {
+ public:
+  RunFrames(const JobOptions& options, const Sequence& sequence, const std::vector<char>& written, Texturing& method,
+            std::size_t first, JobSummary& summary, Reporter& reporter)
+      : options_(options), sequence_(sequence), written_(written), method_(method), first_(first), next_(first),
+        committed_(first), previous_frame_(summary.resumed_after), summary_(summary), reporter_(reporter),
+        stats_(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0) {}
+
+  void run() {
+    try {
+      run_frames(FrameStages<Work>{.read = [this] { return read(); },
+                                   .track = [this](Work& work) { track(work); },
+                                   .texture = [this](Work& work) { texture(work); },
+                                   .write = [this](Work& work) { write(work); }});
+    } catch (...) {
+      remove_uncommitted();
+      throw;
+    }
+  }
+
+ private:
+  std::shared_ptr<Work> read() {
+    if (next_ >= sequence_.size()) return nullptr;
+    const std::size_t index = next_++;
+    return read_frame(sequence_, index, written_[index], options_, reporter_);
+  }
+
+  void track(Work& work) {
+    reporter_.progress(work.index, sequence_.size(), "track");
+    const double dt = previous_frame_ == -1 ? 1.0 / sequence_.fps()
+                                            : static_cast<double>(work.frame - previous_frame_) / sequence_.fps();
+    method_.track(work, dt, work.index == first_, reporter_);
+    previous_frame_ = work.frame;
+    // A written frame's seconds include those of the frames followed since
+    // the previous one (reading and tracking them).
+    if (!work.written) {
+      ++steps_followed_;
+      for (const auto& [stage, secs] : work.stats.seconds) add_seconds(followed_seconds_, stage, secs);
+    } else if (steps_followed_ > 0) {
+      for (const auto& [stage, secs] : followed_seconds_) add_seconds(work.stats.seconds, stage, secs);
+      work.stats.extra.emplace_back("frames_followed", steps_followed_);
+      followed_seconds_.clear();
+      steps_followed_ = 0;
+    }
+  }
+
+  void texture(Work& work) const {
+    if (work.written) method_.texture(work);
+  }
+
+  void write(Work& work) {
+    if (work.written) method_.finish(work);
+    committed_ = work.index + 1;
+    if (!work.written) return;
+    stats_.add(work.stats);
+    ++summary_.frames;
+    reporter_.frame_done(frame_report(options_.synthesis.track_only ? "track" : "run", work.stats, work.started,
+                                      options_.method == TexturingMethod::Patches));
+    reporter_.progress(work.index + 1, sequence_.size(), "written");
+  }
+
+  /// Frames in flight may have their atlas and mesh on disk already: a frame
+  /// is complete with its state, or absent (--resume makes it again).
+  void remove_uncommitted() const {
+    if (options_.method != TexturingMethod::Patches || !options_.output.write_state) return;
+    for (std::size_t i = committed_; i < sequence_.size(); ++i) {
+      if (written_[i]) remove_frame_outputs(options_, sequence_.frames()[i]);
+    }
+  }
+
+  const JobOptions& options_;
+  const Sequence& sequence_;
+  const std::vector<char>& written_;
+  Texturing& method_;
+  std::size_t first_;
+  std::size_t next_;
+  std::size_t committed_;  // frames [first, committed) have all their outputs
+  int previous_frame_;
+  StageSeconds followed_seconds_;  // of the frames followed since the last written one
+  int steps_followed_ = 0;
+  JobSummary& summary_;
+  Reporter& reporter_;
+  StatsWriter stats_;
+};
+
 }  // namespace
 
 JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
@@ -557,11 +513,7 @@ JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
                   " frames on disk between the " + std::to_string(written_frames.size()) +
                   " written (--skipped-frames follow)");
   }
-  std::vector<char> written(sequence.size());
-  for (std::size_t i = 0; i < sequence.size(); ++i) {
-    written[i] =
-        std::binary_search(written_frames.frames().begin(), written_frames.frames().end(), sequence.frames()[i]);
-  }
+  const std::vector<char> written = written_flags(sequence, written_frames);
   std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
   if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
   const JobRecord record = claim_job(options, written_frames, reporter);
@@ -569,89 +521,11 @@ JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
   stamped.output.provenance = settings_hash(record);
   std::size_t first = 0;
   JobSummary summary;
-  std::unique_ptr<Texturing> method;
-  if (options.method == TexturingMethod::FlowMap) {
-    method = std::make_unique<FlowMapTexturing>(stamped, *exemplar);
-  } else {
-    std::string resumed_state;
-    Tracker tracker = start_tracker(options, sequence, written, reporter, first, summary, resumed_state);
-    method = std::make_unique<PatchTexturing>(std::move(tracker), stamped, exemplar ? &*exemplar : nullptr,
-                                              std::move(resumed_state));
-  }
-
-  StatsWriter stats(options.output.dir + "/stats.jsonl", summary.resumed_after >= 0);
+  const std::unique_ptr<Texturing> method =
+      start_texturing(options, stamped, sequence, written, exemplar, reporter, first, summary);
+  RunFrames frames(options, sequence, written, *method, first, summary, reporter);
   write_text_atomically(job_record_path(options.output.dir), job_record_toml(record));
-  int previous_frame = summary.resumed_after;
-  StageSeconds followed_seconds;  // of the frames followed since the last written one
-  int steps_followed = 0;
-
-  // Frames flow through a TBB pipeline: read → track → texture → write.
-  // Reading frame t+1, tracking and texturing overlap; tracking and the final
-  // writes stay in frame order. At most `tokens` frames are in flight, so
-  // memory does not grow with the sequence.
-  std::size_t next = first;
-  const std::size_t tokens = 3;
-  using WorkPtr = std::shared_ptr<Work>;
-  auto read = [&](tbb::flow_control& fc) -> WorkPtr {
-    if (next < sequence.size()) {
-      const std::size_t index = next++;
-      return read_frame(sequence, index, written[index], options, reporter);
-    }
-    fc.stop();
-    return nullptr;
-  };
-  auto track = [&](WorkPtr work) {
-    reporter.progress(work->index, sequence.size(), "track");
-    const double dt = previous_frame == -1 ? 1.0 / sequence.fps()
-                                           : static_cast<double>(work->frame - previous_frame) / sequence.fps();
-    isolated_stage([&] { method->track(*work, dt, work->index == first, reporter); });
-    previous_frame = work->frame;
-    // A written frame's seconds include those of the frames followed since
-    // the previous one (reading and tracking them).
-    if (!work->written) {
-      ++steps_followed;
-      for (const auto& [stage, secs] : work->stats.seconds) add_seconds(followed_seconds, stage, secs);
-    } else if (steps_followed > 0) {
-      for (const auto& [stage, secs] : followed_seconds) add_seconds(work->stats.seconds, stage, secs);
-      work->stats.extra.emplace_back("frames_followed", steps_followed);
-      followed_seconds.clear();
-      steps_followed = 0;
-    }
-    return work;
-  };
-  auto texture = [&](WorkPtr work) {
-    if (work->written) isolated_stage([&] { method->texture(*work); });
-    return work;
-  };
-  std::size_t committed = first;  // frames [first, committed) have all their outputs
-  auto write = [&](const WorkPtr& work) {
-    if (!work->written) {
-      committed = work->index + 1;
-      return;
-    }
-    method->finish(*work);
-    committed = work->index + 1;
-    stats.add(work->stats);
-    ++summary.frames;
-    reporter.frame_done(frame_report(options.synthesis.track_only ? "track" : "run", work->stats, work->started,
-                                     options.method == TexturingMethod::Patches));
-    reporter.progress(work->index + 1, sequence.size(), "written");
-  };
-  try {
-    tbb::parallel_pipeline(tokens, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &
-                                       tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::serial_in_order, track) &
-                                       tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::parallel, texture) &
-                                       tbb::make_filter<WorkPtr, void>(tbb::filter_mode::serial_in_order, write));
-  } catch (...) {
-    // Frames in flight may have their atlas and mesh on disk already: a
-    // frame is complete with its state, or absent (--resume redoes it).
-    if (options.method == TexturingMethod::Patches && options.output.write_state) {
-      for (std::size_t i = committed; i < sequence.size(); ++i) {
-        if (written[i]) remove_frame_outputs(options, sequence.frames()[i]);
-      }
-    }
-    throw;
-  }
+  frames.run();
   if (method->failed() > 0) {
     reporter.warn(std::to_string(method->failed()) +
                   " new disks got no patch (degenerate selection or failed LSCM solve)");

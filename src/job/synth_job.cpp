@@ -6,11 +6,11 @@
 #include <optional>
 #include <set>
 
-#include <oneapi/tbb/parallel_pipeline.h>
-
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/io/stats.h"
+#include "fluidtex/job/frame_texturing.h"
+#include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/error.h"
@@ -145,12 +145,8 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
 
   JobSummary summary;
   std::size_t next = 0;
-  using WorkPtr = std::shared_ptr<SynthWork>;
-  auto read = [&](tbb::flow_control& fc) -> WorkPtr {
-    if (next == todo.size()) {
-      fc.stop();
-      return nullptr;
-    }
+  auto read = [&]() -> std::shared_ptr<SynthWork> {
+    if (next == todo.size()) return nullptr;
     auto work = std::make_shared<SynthWork>();
     const auto at = std::lower_bound(sequence.frames().begin(), sequence.frames().end(), todo[next++]);
     work->index = static_cast<std::size_t>(at - sequence.frames().begin());
@@ -158,7 +154,7 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
     work->mesh = read_frame_mesh(sequence, work->index, work->stats, reporter);
     return work;
   };
-  auto synthesize_one = [&](SynthWork& work) {
+  auto texture = [&](SynthWork& work) {
     const int frame = work.stats.frame;
     std::optional<Tracker> tracker;
     {
@@ -169,19 +165,13 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
     synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().method, exemplar, options, frame,
                      work.stats);
   };
-  auto texture = [&](WorkPtr work) {
-    isolated_stage([&] { synthesize_one(*work); });
-    return work;
-  };
-  auto write = [&](const WorkPtr& work) {
-    stats.add(work->stats);
+  auto write = [&](SynthWork& work) {
+    stats.add(work.stats);
     ++summary.frames;
-    reporter.frame_done(frame_report("synth", work->stats, work->started, true));
+    reporter.frame_done(frame_report("synth", work.stats, work.started, true));
     reporter.progress(summary.frames, todo.size(), "written");
   };
-  tbb::parallel_pipeline(3, tbb::make_filter<void, WorkPtr>(tbb::filter_mode::serial_in_order, read) &
-                                tbb::make_filter<WorkPtr, WorkPtr>(tbb::filter_mode::parallel, texture) &
-                                tbb::make_filter<WorkPtr, void>(tbb::filter_mode::serial_in_order, write));
+  run_frames(FrameStages<SynthWork>{.read = read, .track = [](SynthWork&) {}, .texture = texture, .write = write});
 
   // Pruned only now that every frame is written: a step killed before this
   // point is re-run as it was; one killed while pruning skips the frames it

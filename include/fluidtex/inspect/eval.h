@@ -20,7 +20,7 @@
 #include "fluidtex/inspect/verdict.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
-#include "fluidtex/job/pipeline.h"
+#include "fluidtex/job/job_options.h"
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/util/report.h"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/job/pipeline.h"
+#include "fluidtex/job/frame_runner.h"
 #include "fluidtex/util/report.h"
 
 namespace fluidtex {

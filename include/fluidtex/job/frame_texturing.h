@@ -1,0 +1,41 @@
+/// @file frame_texturing.h
+/// @brief Texturing one frame and writing it (Sec. 6.4): the exemplar as
+/// synthesis reads it, the synthesis settings that follow from a job's
+/// options, and a frame's atlas, its layers (frame_layers.h) and its UV mesh,
+/// for either method.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fluidtex/geometry/surface.h"
+#include "fluidtex/io/stats.h"
+#include "fluidtex/job/job_options.h"
+#include "fluidtex/texture/exemplar.h"
+#include "fluidtex/texture/flowmap.h"
+#include "fluidtex/texture/synthesis.h"
+#include "fluidtex/tracking/options.h"
+#include "fluidtex/tracking/patch.h"
+
+namespace fluidtex {
+
+/// The exemplar as synthesis uses it: read through OpenImageIO, turned to
+/// one channel (Rec. 709 luminance) for displacement.
+Exemplar load_exemplar(const std::string& path, bool displacement);
+
+/// The synthesis settings of a job: blend, method, and the exemplar scale
+/// and projection tolerance that follow from the resolved tracking lengths.
+SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so);
+
+/// Synthesis of one frame from a tracker's state: atlas, texel map, Eq. 7,
+/// then the atlas image, its layers and the UV mesh written atomically.
+/// Fills the synthesis numbers and stage seconds of `stats`.
+void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches, const TrackingOptions& resolved,
+                      const Exemplar& exemplar, const JobOptions& options, int frame, FrameStats& stats);
+
+/// The same for the flow-map baseline (flowmap.h): the same atlas, texel
+/// map, writers and stats, the texels from the two advected uv sets.
+void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
+                              const JobOptions& options, int frame, FrameStats& stats, double tile_size);
+
+}  // namespace fluidtex
