@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <locale>
 #include <memory>
@@ -410,12 +411,54 @@ void parse_camera(const std::string& text, RenderOptions& render) {
   if (v.size() == 7) render.fov_deg = v[6];
 }
 
-void add_preview(CLI::App& app, int& exit_code) {
-  struct PreviewArgs {
-    PreviewOptions options;
-    std::string view = enum_name(RenderOptions{}.view), camera;
-    std::vector<std::string> overlays;
+struct PreviewArgs {
+  PreviewOptions options;
+  std::string view = enum_name(RenderOptions{}.view), camera;
+  std::vector<std::string> overlays;
+};
+
+/// preview's overlay options (--overlay and what the overlays read).
+void add_preview_overlays(CLI::App* preview, PreviewArgs& args) {
+  preview
+      ->add_option("--overlay", args.overlays,
+                   "Draw over the frames (comma list): borders, states (disk centres by state), velocity (arrows); "
+                   "reads the input RUN/job.toml records, or -i")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"borders", "states", "velocity"}))
+      ->group("Overlays");
+  add_input_options(preview, args.options.input, true);
+  for (const char* name : {"-i", "--fps", "--velocity-attr", "--velocity-from-positions", "--strict"}) {
+    preview->get_option(name)->group("Overlays");
+  }
+  preview
+      ->add_option("--velocity-scale", args.options.velocity_scale,
+                   "Velocity arrows are v * dt * K long (K frames of motion)")
+      ->check(number_between(1e-6, 1e6))
+      ->capture_default_str()
+      ->group("Overlays");
+  preview->add_option("--arrow-spacing", args.options.arrow_spacing, "Pixels between velocity arrows")
+      ->check(number_between(1, 16384))
+      ->capture_default_str()
+      ->group("Overlays");
+}
+
+/// `fluidtex preview` once its options are parsed.
+void run_preview_command(PreviewArgs& args) {
+  PreviewOptions& o = args.options;
+  o.render.view = parse_enum<View>(args.view, "view");
+  if (!args.camera.empty()) parse_camera(args.camera, o.render);
+  auto wants = [&](const char* name) {
+    return std::find(args.overlays.begin(), args.overlays.end(), name) != args.overlays.end();
   };
+  o.borders = wants("borders"), o.states = wants("states"), o.velocity = wants("velocity");
+  const PreviewSummary summary = run_preview(o);
+  if (!summary.frame_pattern.empty())
+    std::cout << "wrote " << summary.frames << " previews: " << summary.frame_pattern << "\n";
+  if (!summary.sheet_path.empty())
+    std::cout << "wrote contact sheet of " << summary.sheet_frames << " frames: " << summary.sheet_path << "\n";
+}
+
+void add_preview(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<PreviewArgs>();
   CLI::App* preview = app.add_subcommand("preview", "Render a finished run's textured frames to PNG (OUT/preview/)");
   preview->add_option("run", args->options.run_dir, "The output folder of a fluidtex run")->required();
@@ -436,27 +479,7 @@ void add_preview(CLI::App& app, int& exit_code) {
       ->check(number_between(1, 16384));
   preview->add_option("--mesh", args->options.mesh_pattern, "UV mesh pattern, .obj or .ply (default: the run's)");
   preview->add_option("--atlas", args->options.atlas_pattern, "Atlas pattern (default: the run's)");
-  preview
-      ->add_option("--overlay", args->overlays,
-                   "Draw over the frames (comma list): borders, states (disk centres by state), velocity (arrows); "
-                   "reads the input RUN/job.toml records, or -i")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"borders", "states", "velocity"}))
-      ->group("Overlays");
-  add_input_options(preview, args->options.input, true);
-  for (const char* name : {"-i", "--fps", "--velocity-attr", "--velocity-from-positions", "--strict"}) {
-    preview->get_option(name)->group("Overlays");
-  }
-  preview
-      ->add_option("--velocity-scale", args->options.velocity_scale,
-                   "Velocity arrows are v * dt * K long (K frames of motion)")
-      ->check(number_between(1e-6, 1e6))
-      ->capture_default_str()
-      ->group("Overlays");
-  preview->add_option("--arrow-spacing", args->options.arrow_spacing, "Pixels between velocity arrows")
-      ->check(number_between(1, 16384))
-      ->capture_default_str()
-      ->group("Overlays");
+  add_preview_overlays(preview, *args);
   preview
       ->add_option("--sheet", args->options.sheet,
                    "Also write RUN/preview/sheet.png: every K-th rendered frame in a grid")
@@ -464,31 +487,51 @@ void add_preview(CLI::App& app, int& exit_code) {
   preview->add_flag("--sheet-only", args->options.sheet_only, "Write the contact sheet only, no per-frame PNGs")
       ->group("Contact sheet");
   preview->callback([args, &exit_code]() {
-    PreviewOptions& o = args->options;
-    o.render.view = parse_enum<View>(args->view, "view");
-    if (!args->camera.empty()) parse_camera(args->camera, o.render);
-    auto wants = [&](const char* name) {
-      return std::find(args->overlays.begin(), args->overlays.end(), name) != args->overlays.end();
-    };
-    o.borders = wants("borders"), o.states = wants("states"), o.velocity = wants("velocity");
-    const PreviewSummary summary = run_preview(o);
-    if (!summary.frame_pattern.empty())
-      std::cout << "wrote " << summary.frames << " previews: " << summary.frame_pattern << "\n";
-    if (!summary.sheet_path.empty())
-      std::cout << "wrote contact sheet of " << summary.sheet_frames << " frames: " << summary.sheet_path << "\n";
+    run_preview_command(*args);
     exit_code = 0;
   });
 }
 
+struct EvalArgs {
+  EvalOptions eval;
+  std::string view = enum_name(RenderOptions{}.view);
+  ConsoleArgs console;
+  int threads = 0;
+  bool check = false;
+  std::string thresholds_file;
+};
+
+/// `fluidtex eval` once its options are parsed (`given(name)`: the option
+/// --name is on the command line); returns the exit code.
+int run_eval_command(EvalArgs& args, const std::function<bool(const std::string&)>& given) {
+  ConsoleReporter reporter = args.console.open_reporter();
+  if (!args.thresholds_file.empty()) {
+    apply_config(read_config_file(args.thresholds_file, "eval"), option_table(args.eval.thresholds),
+                 args.thresholds_file, given);
+  }
+  args.eval.thresholds.validate();
+  const JobOptions job = read_job_manifest(args.eval.run_dir);
+  EvalOptions options = args.eval;
+  // Input settings as the run read the sequence; the pattern (and frames) given here.
+  const std::string pattern = options.input.pattern, frames = options.input.frames;
+  options.input = job.input;
+  if (!pattern.empty()) options.input.pattern = pattern;
+  if (!frames.empty()) options.input.frames = frames;
+  options.render.view = parse_enum<View>(args.view, "view");
+  options.render.width = 384;
+  const auto threads = limit_threads(args.threads);
+  const EvalSummary summary = run_eval(options, job, reporter);
+  reporter.info("fluidtex eval: " + std::to_string(summary.frames) + " frames; report: " + summary.report);
+  const std::string verdict = "verdict: " + summary.verdict.line;
+  if (summary.verdict.grade == Grade::Good)
+    reporter.info(verdict);
+  else
+    reporter.warn(verdict);
+  for (const VerdictRange& r : summary.verdict.ranges) reporter.warn(r.line);
+  return args.check && summary.verdict.grade == Grade::Bad ? 1 : 0;
+}
+
 void add_eval(CLI::App& app, int& exit_code) {
-  struct EvalArgs {
-    EvalOptions eval;
-    std::string view = enum_name(RenderOptions{}.view);
-    ConsoleArgs console;
-    int threads = 0;
-    bool check = false;
-    std::string thresholds_file;
-  };
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd =
       app.add_subcommand("eval",
@@ -523,31 +566,7 @@ void add_eval(CLI::App& app, int& exit_code) {
                   "TOML file of verdict thresholds, in its [eval] table (the options given here win)");
   for (const OptionRef& ref : option_table(args->eval.thresholds)) add_table_option(cmd, ref);
   cmd->callback([args, &exit_code, cmd]() {
-    ConsoleReporter reporter = args->console.open_reporter();
-    if (!args->thresholds_file.empty()) {
-      apply_config(read_config_file(args->thresholds_file, "eval"), option_table(args->eval.thresholds),
-                   args->thresholds_file, [&](const std::string& name) { return cmd->count("--" + name) > 0; });
-    }
-    args->eval.thresholds.validate();
-    const JobOptions job = read_job_manifest(args->eval.run_dir);
-    EvalOptions options = args->eval;
-    // Input settings as the run read the sequence; the pattern (and frames) given here.
-    const std::string pattern = options.input.pattern, frames = options.input.frames;
-    options.input = job.input;
-    if (!pattern.empty()) options.input.pattern = pattern;
-    if (!frames.empty()) options.input.frames = frames;
-    options.render.view = parse_enum<View>(args->view, "view");
-    options.render.width = 384;
-    const auto threads = limit_threads(args->threads);
-    const EvalSummary summary = run_eval(options, job, reporter);
-    reporter.info("fluidtex eval: " + std::to_string(summary.frames) + " frames; report: " + summary.report);
-    const std::string verdict = "verdict: " + summary.verdict.line;
-    if (summary.verdict.grade == Grade::Good)
-      reporter.info(verdict);
-    else
-      reporter.warn(verdict);
-    for (const VerdictRange& r : summary.verdict.ranges) reporter.warn(r.line);
-    exit_code = args->check && summary.verdict.grade == Grade::Bad ? 1 : 0;
+    exit_code = run_eval_command(*args, [cmd](const std::string& name) { return cmd->count("--" + name) > 0; });
   });
 }
 

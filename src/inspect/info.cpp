@@ -36,6 +36,28 @@ FrameInfo inspect_frame(const Sequence& sequence, std::size_t index) {
   return info;
 }
 
+namespace {
+
+/// One frame's row of the table: its counts and sizes, and as notes its
+/// components and what cleaning did (or its error).
+std::string frame_row(const FrameInfo& f) {
+  char line[512];
+  if (!f.error.empty()) {
+    std::snprintf(line, sizeof line, "%7d  ERROR %s\n", f.frame, f.error.c_str());
+    return line;
+  }
+  std::string notes = f.clean.components > 1 ? std::to_string(f.clean.components) + " components" : "";
+  if (f.clean.changed() || f.clean.nonmanifold_edges > 0) {
+    if (!notes.empty()) notes += "; ";
+    notes += f.clean.summary();
+  }
+  std::snprintf(line, sizeof line, "%7d %9zu %9zu %10.4g %10.4g %10.4g %10.4g  %s\n", f.frame, f.vertices, f.faces,
+                f.area, f.mean_edge, f.speed_max, f.speed_mean, notes.c_str());
+  return line;
+}
+
+}  // namespace
+
 std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source) {
   std::string out;
   char line[512];
@@ -49,22 +71,13 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSou
   std::size_t vmin = std::numeric_limits<std::size_t>::max(), vmax = 0, fmin = vmin, fmax = 0;
   int comp_max = 0;
   for (const FrameInfo& f : frames) {
+    out += frame_row(f);
     if (!f.error.empty()) {
       ++bad;
-      std::snprintf(line, sizeof line, "%7d  ERROR %s\n", f.frame, f.error.c_str());
-      out += line;
       continue;
-    }
-    std::string notes = f.clean.components > 1 ? std::to_string(f.clean.components) + " components" : "";
-    if (f.clean.changed() || f.clean.nonmanifold_edges > 0) {
-      if (!notes.empty()) notes += "; ";
-      notes += f.clean.summary();
     }
     if (f.clean.changed()) ++cleaned;
     if (f.clean.nonmanifold_edges > 0) ++nonmanifold;
-    std::snprintf(line, sizeof line, "%7d %9zu %9zu %10.4g %10.4g %10.4g %10.4g  %s\n", f.frame, f.vertices, f.faces,
-                  f.area, f.mean_edge, f.speed_max, f.speed_mean, notes.c_str());
-    out += line;
     if (first) {
       all = f.bbox;
       first = false;

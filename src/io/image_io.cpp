@@ -370,6 +370,19 @@ void limit_image_io_threads(int threads) {
   OIIO::attribute("exr_threads", threads == 1 ? -1 : threads);
 }
 
+namespace {
+
+/// The header of an image written to `path` as `format` with pixels of `type`:
+/// channel names and alpha, colour space, constant stamps, the caller's
+/// metadata and the format's compression.
+OIIO::ImageSpec output_spec(const std::string& path, Format format, OIIO::TypeDesc type, const Image& image,
+                            const ImageWriteOptions& options) {
+  const OIIO::ImageSpec spec = output_spec(path, format, type, image, options);
+  return spec;
+}
+
+}  // namespace
+
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
   const Format format = format_of(path);
   const OIIO::TypeDesc type = pixel_type(path, format, options.depth);

@@ -44,37 +44,34 @@ std::string printable(const std::string& text) {
 /// that every grid lies inside the file. OpenVDB seeks to those offsets
 /// without checking them: on a truncated cache it reads past the end and
 /// can loop or crash instead of failing.
-void check_layout(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  const auto size = static_cast<std::int64_t>(std::filesystem::file_size(path));
-  auto fail = [&](const std::string& what) { throw InputError(path, "not a readable OpenVDB file (" + what + ")"); };
-  auto read = [&](auto& value) {
-    if (!in.read(reinterpret_cast<char*>(&value), sizeof value)) fail("truncated or damaged header");
-  };
-  auto skip = [&](std::int64_t bytes) {
-    if (bytes < 0 || bytes > size - std::int64_t(in.tellg())) fail("truncated or damaged header");
-    in.seekg(bytes, std::ios::cur);
-  };
-  auto read_string = [&]() {
+/// Reads the fields of a VDB file's header, every size checked against the
+/// file's: InputError naming the file for one that runs past its end.
+class VdbHeaderReader {
+ public:
+  explicit VdbHeaderReader(const std::string& path)
+      : path_(path), in_(path, std::ios::binary), size_(static_cast<std::int64_t>(std::filesystem::file_size(path))) {}
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(path_, "not a readable OpenVDB file (" + what + ")");
+  }
+  template <class T>
+  void read(T& value) {
+    if (!in_.read(reinterpret_cast<char*>(&value), sizeof value)) fail("truncated or damaged header");
+  }
+  void skip(std::int64_t bytes) {
+    if (bytes < 0 || bytes > size_ - position()) fail("truncated or damaged header");
+    in_.seekg(bytes, std::ios::cur);
+  }
+  std::string read_string() {
     std::uint32_t length = 0;
     read(length);
-    if (length > size - std::int64_t(in.tellg())) fail("truncated or damaged header");
+    if (length > size_ - position()) fail("truncated or damaged header");
     std::string text(length, '\0');
-    in.read(text.data(), length);
+    in_.read(text.data(), length);
     return text;
-  };
-  std::int64_t magic = 0;
-  std::uint32_t version = 0, major = 0, minor = 0;
-  char offsets = 0;
-  read(magic);
-  if (magic != 0x56444220) fail("not a VDB file");
-  read(version);
-  if (version < 222) return;  // older layouts: left to OpenVDB
-  read(major), read(minor), read(offsets);
-  if (!offsets) return;  // written as a stream: no offsets to check
-  skip(36);              // UUID
-  // A metadata map: a count, then per entry name, type and sized value.
-  auto skip_metadata = [&]() {
+  }
+  /// A metadata map: a count, then per entry name, type and sized value.
+  void skip_metadata() {
     std::uint32_t entries = 0;
     read(entries);
     for (std::uint32_t e = 0; e < entries; ++e) {
@@ -83,28 +80,52 @@ void check_layout(const std::string& path) {
       read(bytes);
       skip(bytes);
     }
-  };
-  skip_metadata();
+  }
+  std::int64_t position() { return std::int64_t(in_.tellg()); }
+  void seek(std::int64_t pos) { in_.seekg(pos); }
+  std::int64_t size() const { return size_; }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  std::int64_t size_;
+};
+
+void check_layout(const std::string& path) {
+  VdbHeaderReader in(path);
+  const std::int64_t size = in.size();
+  std::int64_t magic = 0;
+  std::uint32_t version = 0, major = 0, minor = 0;
+  char offsets = 0;
+  in.read(magic);
+  if (magic != 0x56444220) in.fail("not a VDB file");
+  in.read(version);
+  if (version < 222) return;  // older layouts: left to OpenVDB
+  in.read(major), in.read(minor), in.read(offsets);
+  if (!offsets) return;  // written as a stream: no offsets to check
+  in.skip(36);           // UUID
+  in.skip_metadata();
   std::int32_t grids = 0;
-  read(grids);
+  in.read(grids);
   for (std::int32_t g = 0; g < grids; ++g) {
-    const std::string name = read_string();
-    read_string(), read_string();  // type, instance parent
+    const std::string name = in.read_string();
+    in.read_string(), in.read_string();  // type, instance parent
     std::int64_t grid_pos = 0, block_pos = 0, end_pos = 0;
-    read(grid_pos), read(block_pos), read(end_pos);
-    if (!(grid_pos <= block_pos && block_pos <= end_pos && end_pos <= size && grid_pos >= in.tellg())) {
-      fail("truncated: grid '" + printable(openvdb::io::GridDescriptor::nameAsString(name)) + "' spans bytes " +
-           std::to_string(grid_pos) + "-" + std::to_string(end_pos) + " of a " + std::to_string(size) + "-byte file");
+    in.read(grid_pos), in.read(block_pos), in.read(end_pos);
+    if (!(grid_pos <= block_pos && block_pos <= end_pos && end_pos <= size && grid_pos >= in.position())) {
+      in.fail("truncated: grid '" + printable(openvdb::io::GridDescriptor::nameAsString(name)) + "' spans bytes " +
+              std::to_string(grid_pos) + "-" + std::to_string(end_pos) + " of a " + std::to_string(size) +
+              "-byte file");
     }
     // The grid's own metadata (after its compression flags) and the name of
     // its transform: OpenVDB allocates what a size field says before
     // reading it.
-    in.seekg(grid_pos + 4);
-    skip_metadata();
-    read_string();  // the transform's type
-    if (std::int64_t(in.tellg()) > block_pos)
-      fail("grid '" + printable(openvdb::io::GridDescriptor::nameAsString(name)) + "': metadata runs past its data");
-    in.seekg(end_pos);
+    in.seek(grid_pos + 4);
+    in.skip_metadata();
+    in.read_string();  // the transform's type
+    if (in.position() > block_pos)
+      in.fail("grid '" + printable(openvdb::io::GridDescriptor::nameAsString(name)) + "': metadata runs past its data");
+    in.seek(end_pos);
   }
 }
 

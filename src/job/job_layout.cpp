@@ -75,7 +75,10 @@ void check_output_paths(const JobOptions& options) {
     inputs.emplace_back(fs::absolute(options.exemplar).lexically_normal().string(), "the exemplar");
   for (const auto& [file, what] : outputs) {
     for (const auto& [in, in_what] : inputs) {
-      if (file == in) throw InputError(file, what + " would overwrite " + in_what + ": write it elsewhere");
+      if (file != in) continue;
+      std::string problem = what;
+      problem += " would overwrite " + in_what + ": write it elsewhere";
+      throw InputError(file, problem);
     }
   }
 }

@@ -281,7 +281,7 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const
           textured || (options.synthesis.track_only && std::filesystem::exists(state_path(options.output.dir, frame)));
       if (!complete) limit = i;
     }
-    if (limit < sequence.size() && FramePattern(state_pattern(options.output.dir)).discover().size() > 0)
+    if (limit < sequence.size() && !FramePattern(state_pattern(options.output.dir)).discover().empty())
       reporter.info("frame " + std::to_string(sequence.frames()[limit]) +
                     " of the job is incomplete: it and every frame after it are made again");
     // The newest state before it whose frame is in the sequence: every

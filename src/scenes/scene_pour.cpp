@@ -104,7 +104,7 @@ struct PourScene {
     bool on_cap = false;
     sdf(p, t, &h, &on_cap);
     const double z_jet = std::max(p.z(), front(t));
-    const Vec3 vb = h * Vec3(0.0, 0.0, -jet_speed(z_jet)) + (1.0 - h) * pool_velocity(p, t);
+    Vec3 vb = h * Vec3(0.0, 0.0, -jet_speed(z_jet)) + (1.0 - h) * pool_velocity(p, t);
     if (on_cap && h > 0.999) return vb;
     const double e = 1e-4;
     const double df_dt = (sdf(p, t + e) - sdf(p, std::max(0.0, t - e))) / (t + e - std::max(0.0, t - e));

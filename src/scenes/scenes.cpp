@@ -301,10 +301,10 @@ struct MergeFlow {
     centres(t, c, cd);
     double f = 0.0;
     Vec2 grad = Vec2::Zero();
-    for (int i = 0; i < 2; ++i) {
-      const double fi = std::exp(-(p - c[i]).squaredNorm() / (sigma * sigma));
+    for (const Vec2& ci : c) {
+      const double fi = std::exp(-(p - ci).squaredNorm() / (sigma * sigma));
       f += fi;
-      grad += -2.0 * fi / (sigma * sigma) * (p - c[i]);
+      grad += -2.0 * fi / (sigma * sigma) * (p - ci);
     }
     return (tau - f) / std::max(grad.norm(), 0.25);
   }

@@ -484,6 +484,45 @@ void PatchCoverage::locate_each(const std::vector<Vec3>& points, const std::vect
   }
 }
 
+namespace {
+
+/// Groups of points (group g: points[start[g] .. start[g+1])) in the order of
+/// the cell of side `cell` that holds their centroid, groups in order within a
+/// cell; a group whose centroid has no usable cell (or every group, without a
+/// cell size) is a cell of its own.
+struct CellOrder {
+  std::vector<std::size_t> group;       ///< the groups, cell by cell
+  std::vector<std::size_t> cell_start;  ///< cell c: group[cell_start[c] .. cell_start[c+1])
+};
+
+CellOrder order_by_cell(const std::vector<Vec3>& points, const std::vector<std::size_t>& start, double cell) {
+  const std::size_t groups = start.size() - 1;
+  using Key = std::array<std::int64_t, 4>;  // (own cell?, cell or group)
+  std::vector<std::pair<Key, std::size_t>> keyed(groups);
+  const bool by_cell = cell > 0.0 && std::isfinite(cell);
+  parallel_each(groups, [&](std::size_t g) {
+    Key key{1, static_cast<std::int64_t>(g), 0, 0};
+    if (by_cell && start[g + 1] > start[g]) {
+      Vec3 c = Vec3::Zero();
+      for (std::size_t i = start[g]; i < start[g + 1]; ++i) c += points[i];
+      const Vec3 q = (c / static_cast<double>(start[g + 1] - start[g]) / cell).array().floor();
+      if (q.allFinite() && q.cwiseAbs().maxCoeff() < 0x1p52)
+        key = {0, static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()), static_cast<std::int64_t>(q.z())};
+    }
+    keyed[g] = {key, g};
+  });
+  std::sort(keyed.begin(), keyed.end());
+  CellOrder order;
+  for (std::size_t k = 0; k < groups; ++k) {
+    if (k == 0 || keyed[k].first != keyed[k - 1].first) order.cell_start.push_back(k);
+    order.group.push_back(keyed[k].second);
+  }
+  order.cell_start.push_back(groups);
+  return order;
+}
+
+}  // namespace
+
 void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                                    const std::vector<std::size_t>& start,
                                    const std::function<void(std::size_t, std::size_t)>& bare) const {
@@ -496,34 +535,13 @@ void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::v
     }
     return;
   }
-  // The groups by the cell of their centroid, groups in order within a
-  // cell; a group whose centroid has no usable cell (or all groups, without
-  // a cell size) is a cell of its own. Key: (own cell?, cell or group).
-  using Key = std::array<std::int64_t, 4>;
-  std::vector<std::pair<Key, std::size_t>> keyed(groups);
-  const bool by_cell = B.cell > 0.0 && std::isfinite(B.cell);
-  parallel_each(groups, [&](std::size_t g) {
-    Key key{1, static_cast<std::int64_t>(g), 0, 0};
-    if (by_cell && start[g + 1] > start[g]) {
-      Vec3 c = Vec3::Zero();
-      for (std::size_t i = start[g]; i < start[g + 1]; ++i) c += points[i];
-      const Vec3 q = (c / static_cast<double>(start[g + 1] - start[g]) / B.cell).array().floor();
-      if (q.allFinite() && q.cwiseAbs().maxCoeff() < 0x1p52)
-        key = {0, static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()), static_cast<std::int64_t>(q.z())};
-    }
-    keyed[g] = {key, g};
-  });
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::size_t> cell_start;
-  for (std::size_t k = 0; k < groups; ++k) {
-    if (k == 0 || keyed[k].first != keyed[k - 1].first) cell_start.push_back(k);
-  }
-  cell_start.push_back(groups);
+  const CellOrder order = order_by_cell(points, start, B.cell);
+  const std::vector<std::size_t>& cell_start = order.cell_start;
   auto test_cell = [&](std::size_t c) {
     thread_local std::vector<Vec3> cell_points;  // kept per thread, as near()'s lists
     cell_points.clear();
     for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
-      const std::size_t g = keyed[k].second;
+      const std::size_t g = order.group[k];
       cell_points.insert(cell_points.end(), points.begin() + static_cast<std::ptrdiff_t>(start[g]),
                          points.begin() + static_cast<std::ptrdiff_t>(start[g + 1]));
     }
@@ -538,7 +556,7 @@ void PatchCoverage::uncovered_each(const std::vector<Vec3>& points, const std::v
       return interpolate(patch.weight, patch.triangles[t], b) > 0.0;
     };
     for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
-      const std::size_t g = keyed[k].second;
+      const std::size_t g = order.group[k];
       // Each point tries the patch that covered the point before it first.
       std::size_t last = ball.size();
       for (std::size_t i = start[g]; i < start[g + 1]; ++i) {

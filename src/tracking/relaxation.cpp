@@ -67,7 +67,7 @@ PlasticSystem plastic_system(const Patch& patch, double yield) {
     Eigen::Matrix2d plastic = Eigen::Matrix2d::Identity();
     if (flat_edges.determinant() > 0.0) {
       const Eigen::JacobiSVD<Eigen::Matrix2d> svd(flat_edges * uv_edges.inverse(), Eigen::ComputeFullV);
-      const Vec2 sigma = svd.singularValues();
+      const Vec2& sigma = svd.singularValues();
       const Vec2 clamped = sigma.cwiseMax(1.0 / yield).cwiseMin(yield);
       sys.yielded = sys.yielded || clamped != sigma;
       plastic = svd.matrixV() * sigma.cwiseQuotient(clamped).asDiagonal() * svd.matrixV().transpose();

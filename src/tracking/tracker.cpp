@@ -169,6 +169,40 @@ std::vector<AdvectResult> Tracker::advect(const SurfaceIndex& next, double dt, S
   return advected;
 }
 
+namespace {
+
+/// Removes the patches advection lost (counted in `report`, with their
+/// removal and, unless already fading, the cause), and starts the fade-out
+/// of those `distorted` names.
+void drop_lost_flag_distorted(std::vector<Patch>& patches, const std::vector<AdvectResult>& advected,
+                              const std::vector<RetireCause>& distorted, int frame, StepReport& report) {
+  std::vector<Patch> kept;
+  kept.reserve(patches.size());
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    Patch& p = patches[i];
+    if (is_lost(advected[i])) {
+      ++report.lost;
+      report.removals.push_back(p.centre.point.position);
+      if (!is_fading_out(p.state)) {
+        const RetireCause cause =
+            advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
+        report.retired.push_back({p.id, cause, frame - p.created_frame});
+      }
+      continue;
+    }
+    if (distorted[i] != RetireCause::None && !is_fading_out(p.state)) {
+      p.state = DiskState::FadingOutDistorted;
+      p.flagged_frame = frame;
+      p.cause = distorted[i];
+      report.retired.push_back({p.id, p.cause, frame - p.created_frame});
+    }
+    kept.push_back(std::move(p));
+  }
+  patches = std::move(kept);
+}
+
+}  // namespace
+
 void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<AdvectResult>& advected, int frame,
                                StepReport& report) {
   const ScopedStage stage(report.seconds, "distortion");
@@ -211,36 +245,11 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
   for (const RetireCause cause : recut_cause) {
     if (cause != RetireCause::None) ++report.recut, ++report.recut_causes[static_cast<int>(cause)];
   }
-  std::vector<Patch> kept;
-  kept.reserve(patches_.size());
-  for (std::size_t i = 0; i < patches_.size(); ++i) {
-    Patch& p = patches_[i];
-    if (is_lost(advected[i])) {
-      ++report.lost;
-      report.removals.push_back(p.centre.point.position);
-      if (!is_fading_out(p.state)) {
-        const RetireCause cause =
-            advected[i] == AdvectResult::CentreLost ? RetireCause::CentreLost : RetireCause::Emptied;
-        report.retired.push_back({p.id, cause, frame - p.created_frame});
-      }
-      continue;
-    }
-    if (distorted[i] != RetireCause::None && !is_fading_out(p.state)) {
-      p.state = DiskState::FadingOutDistorted;
-      p.flagged_frame = frame;
-      p.cause = distorted[i];
-      report.retired.push_back({p.id, p.cause, frame - p.created_frame});
-    }
-    kept.push_back(std::move(p));
-  }
-  patches_ = std::move(kept);
+  drop_lost_flag_distorted(patches_, advected, distorted, frame, report);
 }
 
-std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
-                                                   StepReport& report, std::vector<int>& bare_faces) {
-  const ScopedStage stage(report.seconds, "poisson");
+std::vector<SurfaceSample> Tracker::retire_too_close(const PoissonParams& params, int frame, StepReport& report) {
   const TrackingOptions& o = settings_.method;
-  const PoissonParams params = poisson_params(o);
   // Fading-out disks are ignored; patches are in id order, so of two disks
   // too close the younger one fades out, once it has been too close for
   // more than kill-frames frames in a row.
@@ -277,95 +286,135 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
       remaining.push_back(disks[k]);
     }
   }
-  std::vector<SurfaceSample> candidates =
-      surface_candidates(surface, o.d(), settings_.seed, settings_.candidates_per_disk);
-  // Which candidates the live patches really cover (K_S > 0): their
-  // weights are refreshed for the advected shape first.
-  std::vector<char> uncovered;
-  std::optional<PatchCoverage> coverage;
+  return remaining;
+}
+
+namespace {
+
+/// The Poisson update's candidates and which of them no live patch covers
+/// (K_S > 0): the random candidates, then the first bare sample of every face
+/// left bare, in face order (random candidates miss thin strips, such as the
+/// fillet where a liquid surface meets a wall, narrower than their spacing).
+class GapSearch {
+ public:
+  GapSearch(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<SurfaceSample> candidates)
+      : surface_(surface), samples_(samples), candidates_(std::move(candidates)), random_(candidates_.size()) {}
+
+  /// Tests every candidate and face against the patches of `live_mask`.
+  void find(const std::vector<Patch>& patches, const std::vector<char>& live_mask, double mpt) {
+    coverage_.emplace(patches, mpt, &live_mask);
+    candidates_.resize(random_);
+    uncovered_ = uncovered_samples(candidates_, *coverage_);
+    const BareFaces bare = fluidtex::bare_faces(surface_, samples_, *coverage_);
+    bare_faces_ = bare.face;
+    candidates_.insert(candidates_.end(), bare.point.begin(), bare.point.end());
+    uncovered_.resize(candidates_.size(), 1);
+  }
+
+  /// The same after patches were cut again, computed only where their
+  /// coverage can have changed (`changed`): the random candidates and the
+  /// faces there are tested again, the rest keep their first answer.
+  void refind(const std::vector<Patch>& patches, const std::vector<char>& live_mask, double mpt,
+              const std::vector<BBox>& changed) {
+    coverage_.emplace(patches, mpt, &live_mask);
+    auto inside = [&](const Vec3& q) {
+      return std::any_of(changed.begin(), changed.end(), [&](const BBox& b) {
+        return (q.array() >= b.min.array()).all() && (q.array() <= b.max.array()).all();
+      });
+    };
+    const std::vector<SurfaceSample> first_points(candidates_.begin() + static_cast<std::ptrdiff_t>(random_),
+                                                  candidates_.end());
+    candidates_.resize(random_);
+    uncovered_.resize(random_);
+    std::vector<std::size_t> again;
+    for (std::size_t k = 0; k < random_; ++k) {
+      if (inside(candidates_[k].point.position)) again.push_back(k);
+    }
+    parallel_each(again.size(), [&](std::size_t a) {
+      const SurfaceSample& c = candidates_[again[a]];
+      uncovered_[again[a]] = !coverage_->covers(c.point.position, c.normal);
+    });
+    std::vector<int> faces;
+    for (const BBox& b : changed) {
+      const std::vector<int> in = surface_.faces_in_box(b.min, b.max);
+      faces.insert(faces.end(), in.begin(), in.end());
+    }
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    merge_bare_faces(faces, first_points, fluidtex::bare_faces(surface_, samples_, *coverage_, &faces));
+  }
+
+  std::vector<SurfaceSample>& candidates() { return candidates_; }
+  std::vector<char>& uncovered() { return uncovered_; }
+  std::vector<int>& bare_faces() { return bare_faces_; }
+  const PatchCoverage& coverage() const { return *coverage_; }
+
+ private:
+  /// The bare faces of the first test (their points `first_points`) and
+  /// those of `retested` (the faces `faces` tested again), ascending by
+  /// face: a face tested again takes its new answer.
+  void merge_bare_faces(const std::vector<int>& faces, const std::vector<SurfaceSample>& first_points,
+                        const BareFaces& retested) {
+    std::vector<int> merged_face;
+    std::vector<SurfaceSample> merged_point;
+    std::size_t a = 0, b = 0;
+    auto from_first = [&](std::size_t k) { return !std::binary_search(faces.begin(), faces.end(), bare_faces_[k]); };
+    while (a < bare_faces_.size() || b < retested.face.size()) {
+      if (b == retested.face.size() || (a < bare_faces_.size() && bare_faces_[a] < retested.face[b])) {
+        if (from_first(a)) merged_face.push_back(bare_faces_[a]), merged_point.push_back(first_points[a]);
+        ++a;
+      } else {
+        if (a < bare_faces_.size() && bare_faces_[a] == retested.face[b]) ++a;
+        merged_face.push_back(retested.face[b]), merged_point.push_back(retested.point[b]);
+        ++b;
+      }
+    }
+    bare_faces_ = std::move(merged_face);
+    candidates_.insert(candidates_.end(), merged_point.begin(), merged_point.end());
+    uncovered_.resize(candidates_.size(), 1);
+  }
+
+  const SurfaceIndex& surface_;
+  const FaceSamples& samples_;
+  std::vector<SurfaceSample> candidates_;
+  std::size_t random_;
+  std::vector<char> uncovered_;
+  std::vector<int> bare_faces_;
+  std::optional<PatchCoverage> coverage_;
+};
+
+}  // namespace
+
+std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
+                                                   StepReport& report, std::vector<int>& bare_faces) {
+  const ScopedStage stage(report.seconds, "poisson");
+  const TrackingOptions& o = settings_.method;
+  const PoissonParams params = poisson_params(o);
+  const std::vector<SurfaceSample> remaining = retire_too_close(params, frame, report);
+  GapSearch gaps(surface, samples, surface_candidates(surface, o.d(), settings_.seed, settings_.candidates_per_disk));
   std::function<bool(std::size_t)> reached;
   std::vector<PatchHit> hits;
   if (started_ && settings_.coverage_aware) {
-    std::vector<char> live_mask(patches_.size(), 0);
     // A disk waiting out kill-frames within the kill distance still counts
     // as cover: it is live and textured, and most such pairs part again. Its
     // area is refilled when it starts to fade out (the new disk fades in as
     // it fades out). Counted as bare, it seeded disks beside it that stayed
     // when the pair parted (docs/tracking.md, "Waiting disks count as cover").
-    // A sinking patch counts as cover until it is gone.
+    // A sinking patch counts as cover until it is gone. Their weights are
+    // refreshed for the advected shape first.
+    std::vector<char> live_mask(patches_.size(), 0);
     for (std::size_t i = 0; i < patches_.size(); ++i)
       live_mask[i] = !is_fading_out(patches_[i].state) || is_sinking(patches_[i]);
     parallel_each(patches_.size(), [&](std::size_t i) {
       if (live_mask[i]) update_weights(patches_[i], o);
     });
-    const std::size_t random_candidates = candidates.size();
-    auto find_gaps = [&] {
-      coverage.emplace(patches_, o.mpt(), &live_mask);
-      candidates.resize(random_candidates);
-      uncovered = uncovered_samples(candidates, *coverage);
-      // Random candidates miss thin strips (the fillet where a liquid surface
-      // meets a wall, narrower than their spacing): the first bare sample of
-      // every face left bare is a candidate too, after the others, in face
-      // order.
-      const BareFaces bare = fluidtex::bare_faces(surface, samples, *coverage);
-      bare_faces = bare.face;
-      candidates.insert(candidates.end(), bare.point.begin(), bare.point.end());
-      uncovered.resize(candidates.size(), 1);
-    };
-    // The same as find_gaps() after patches were cut again, computed only
-    // where their coverage can have changed (`changed`): the random
-    // candidates and the faces there are tested again, the rest keep their
-    // first answer.
-    auto refind_gaps = [&](const std::vector<BBox>& changed) {
-      coverage.emplace(patches_, o.mpt(), &live_mask);
-      auto inside = [&](const Vec3& q) {
-        return std::any_of(changed.begin(), changed.end(), [&](const BBox& b) {
-          return (q.array() >= b.min.array()).all() && (q.array() <= b.max.array()).all();
-        });
-      };
-      const std::vector<SurfaceSample> first_points(candidates.begin() + random_candidates, candidates.end());
-      candidates.resize(random_candidates);
-      uncovered.resize(random_candidates);
-      std::vector<std::size_t> again;
-      for (std::size_t k = 0; k < random_candidates; ++k) {
-        if (inside(candidates[k].point.position)) again.push_back(k);
-      }
-      parallel_each(again.size(), [&](std::size_t a) {
-        const SurfaceSample& c = candidates[again[a]];
-        uncovered[again[a]] = !coverage->covers(c.point.position, c.normal);
-      });
-      std::vector<int> faces;
-      for (const BBox& b : changed) {
-        const std::vector<int> in = surface.faces_in_box(b.min, b.max);
-        faces.insert(faces.end(), in.begin(), in.end());
-      }
-      std::sort(faces.begin(), faces.end());
-      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-      const BareFaces retested = fluidtex::bare_faces(surface, samples, *coverage, &faces);
-      // Merge, ascending by face: a face tested again takes its new answer.
-      std::vector<int> merged_face;
-      std::vector<SurfaceSample> merged_point;
-      std::size_t a = 0, b = 0;
-      auto from_first = [&](std::size_t k) { return !std::binary_search(faces.begin(), faces.end(), bare_faces[k]); };
-      while (a < bare_faces.size() || b < retested.face.size()) {
-        if (b == retested.face.size() || (a < bare_faces.size() && bare_faces[a] < retested.face[b])) {
-          if (from_first(a)) merged_face.push_back(bare_faces[a]), merged_point.push_back(first_points[a]);
-          ++a;
-        } else {
-          if (a < bare_faces.size() && bare_faces[a] == retested.face[b]) ++a;
-          merged_face.push_back(retested.face[b]), merged_point.push_back(retested.point[b]);
-          ++b;
-        }
-      }
-      bare_faces = std::move(merged_face);
-      candidates.insert(candidates.end(), merged_point.begin(), merged_point.end());
-      uncovered.resize(candidates.size(), 1);
-    };
-    find_gaps();
+    gaps.find(patches_, live_mask, o.mpt());
     if (o.gap_fill == GapFill::Recut) {
-      const std::vector<BBox> changed = regrow_over_gaps(surface, candidates, uncovered, live_mask, frame, report);
-      if (!changed.empty()) refind_gaps(changed);
+      const std::vector<BBox> changed =
+          regrow_over_gaps(surface, gaps.candidates(), gaps.uncovered(), live_mask, frame, report);
+      if (!changed.empty()) gaps.refind(patches_, live_mask, o.mpt(), changed);
     }
+    bare_faces = gaps.bare_faces();
     // The birth margin measured on the patches too: a live patch stretched
     // by the liquid still shows its own disk where its centre has moved more
     // than (1 + γ)·d away in space. A gap the liquid opens inside a patch
@@ -375,12 +424,13 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
     const double reach = (1.0 + o.birth_margin) * o.d();
     if (o.birth_gap == BirthGap::Patches)
       reached = [&, reach](std::size_t k) {
-        coverage->locate(candidates[k].point.position, candidates[k].normal, hits);
+        const SurfaceSample& c = gaps.candidates()[k];
+        gaps.coverage().locate(c.point.position, c.normal, hits);
         return std::any_of(hits.begin(), hits.end(), [&](const PatchHit& h) { return h.uv.norm() < reach; });
       };
   }
-  return fill_gaps(remaining, candidates, surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
-                   uncovered.empty() ? nullptr : &uncovered, o.birth_margin, reached);
+  return fill_gaps(remaining, gaps.candidates(), surface, params, settings_.min_component_area * M_PI * o.d() * o.d(),
+                   gaps.uncovered().empty() ? nullptr : &gaps.uncovered(), o.birth_margin, reached);
 }
 
 std::vector<BBox> Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,

@@ -63,6 +63,36 @@ bool parse_flag(const std::string& name, const std::string& text) {
   throw InputError("", "--" + name + ": expected true or false, got '" + text + "'");
 }
 
+void bind_automatic(OptionRef& ref, std::optional<double>& field) {
+  ref.type = "FLOAT|auto";
+  ref.automatic = true;
+  ref.text = [&field] { return field ? format_number(*field) : std::string("auto"); };
+  ref.toml = [&field] { return field ? format_number(*field) : std::string("\"auto\""); };
+  ref.set = [&field, name = std::string(ref.info.name)](const std::vector<std::string>& v) {
+    const std::string& s = single(name, v);
+    if (s == "auto")
+      field.reset();
+    else
+      field = parse_number(name, s);
+  };
+}
+
+void bind_list(OptionRef& ref, std::vector<std::string>& field) {
+  ref.kind = OptionRef::Kind::List;
+  ref.choices = split_choices(ref.info.choices);
+  ref.text = [&field] {
+    std::string s;
+    for (const std::string& e : field) s += (s.empty() ? "" : ",") + e;
+    return s;
+  };
+  ref.set = [&field](const std::vector<std::string>& v) {
+    field.clear();
+    for (const std::string& e : v) {
+      for (const std::string& item : split_choices(e.c_str())) field.push_back(item);
+    }
+  };
+}
+
 std::vector<std::string> split_choices(const char* list) {
   std::vector<std::string> out;
   std::string item;

@@ -10,6 +10,6 @@ namespace fluidtex {
 
 /// Runs the job (either method). Throws InputError for bad input (before any output is
 /// written when the problem can be seen up front), InternalError otherwise.
-JobSummary run_job(const JobOptions& options, Reporter& reporter);
+JobSummary run_job(const JobOptions& requested, Reporter& reporter);
 
 }  // namespace fluidtex

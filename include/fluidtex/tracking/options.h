@@ -164,7 +164,16 @@ struct TrackingOptions {
   /// Every field as f(OptionInfo, field), in the order of --help, the config
   /// file and the state file's settings block (util/options.h).
   template <class Self, class F>
-  static void for_each_option(Self& o, F&& f);
+  static void for_each_option(Self& o, F&& f) {
+    for_each_paper_option(o, f);
+    for_each_rule_option(o, f);
+  }
+  /// The paper's parameters (Tables 3 and 4), then the rules and lengths
+  /// that depart from it (each names the paper's setting).
+  template <class Self, class F>
+  static void for_each_paper_option(Self& o, F&& f);
+  template <class Self, class F>
+  static void for_each_rule_option(Self& o, F&& f);
 
   /// Throws InputError naming the option for an out-of-range value.
   void validate() const;
@@ -189,7 +198,7 @@ struct TrackingOptions {
 };
 
 template <class Self, class F>
-void TrackingOptions::for_each_option(Self& o, F&& f) {
+void TrackingOptions::for_each_paper_option(Self& o, F&& f) {
   f(OptionInfo{.name = "radius",
                .help = "d: Poisson disk radius in scene units (auto: 0.05 x first frame's bounding-box diagonal)",
                .bounds = above(0)},
@@ -231,6 +240,10 @@ void TrackingOptions::for_each_option(Self& o, F&& f) {
                .help = "beta: patch triangles are selected within (1 + beta) x radius of the disk centre",
                .bounds = at_least(0)},
     o.selection_margin);
+}
+
+template <class Self, class F>
+void TrackingOptions::for_each_rule_option(Self& o, F&& f) {
   f(OptionInfo{.name = "relax-frames",
                .help = "plastic patches: a triangle stretched beyond the yield gives way by 1/N of the excess a frame "
                        "(0: off, the paper)",

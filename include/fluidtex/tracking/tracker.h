@@ -157,6 +157,11 @@ class Tracker {
                         StepReport& report);
   std::vector<SurfaceSample> poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
                                             StepReport& report, std::vector<int>& bare_faces);
+  /// The kill distance (Sec. 5.4): of two live disks too close, the younger
+  /// fades out once it has been too close for more than kill-frames frames
+  /// in a row (at once where the surface sinks). Returns the disks that
+  /// stay: the live ones left and the sinking ones.
+  std::vector<SurfaceSample> retire_too_close(const PoissonParams& params, int frame, StepReport& report);
   /// GapFill::Recut: every live patch (live_mask) whose disk rejects one of
   /// the `uncovered` `candidates` at radius d (the nearest such disk, for
   /// each) is cut again around its centre from `surface` (recut_patch), so

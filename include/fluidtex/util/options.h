@@ -118,6 +118,23 @@ const std::string& single(const std::string& name, const std::vector<std::string
 /// A TOML basic string, or a literal one when `text` holds a '"' (the
 /// config reader does not unescape).
 std::string toml_string(const std::string& name, const std::string& text);
+
+/// bind_option for a number or "auto" (FLOAT|auto), a list (its choices from
+/// ref.info), and an integer of type T (INT, bounded by T's range).
+void bind_automatic(OptionRef& ref, std::optional<double>& field);
+void bind_list(OptionRef& ref, std::vector<std::string>& field);
+template <class T>
+void bind_integer(OptionRef& ref, T& field) {
+  ref.type = "INT";
+  ref.text = [&field] { return std::to_string(field); };
+  ref.set = [&field, name = std::string(ref.info.name)](const std::vector<std::string>& v) {
+    const std::string& s = single(name, v);
+    if constexpr (std::is_unsigned_v<T>)
+      field = static_cast<T>(parse_unsigned(name, s, std::numeric_limits<T>::max()));
+    else
+      field = static_cast<T>(parse_integer(name, s, std::numeric_limits<T>::min(), std::numeric_limits<T>::max()));
+  };
+}
 }  // namespace option_detail
 
 /// `field` behind an OptionRef (see the field types in the file comment).
@@ -136,44 +153,14 @@ OptionRef bind_option(const OptionInfo& info, T& field) {
     ref.text = [&field] { return d::format_number(field); };
     ref.set = [&field, name](const std::vector<std::string>& v) { field = d::parse_number(name, d::single(name, v)); };
   } else if constexpr (std::is_same_v<T, std::optional<double>>) {
-    ref.type = "FLOAT|auto";
-    ref.automatic = true;
-    ref.text = [&field] { return field ? d::format_number(*field) : std::string("auto"); };
-    ref.toml = [&field] { return field ? d::format_number(*field) : std::string("\"auto\""); };
-    ref.set = [&field, name](const std::vector<std::string>& v) {
-      const std::string& s = d::single(name, v);
-      if (s == "auto")
-        field.reset();
-      else
-        field = d::parse_number(name, s);
-    };
+    d::bind_automatic(ref, field);
   } else if constexpr (std::is_integral_v<T>) {
-    ref.type = "INT";
-    ref.text = [&field] { return std::to_string(field); };
-    ref.set = [&field, name](const std::vector<std::string>& v) {
-      const std::string& s = d::single(name, v);
-      if constexpr (std::is_unsigned_v<T>)
-        field = static_cast<T>(d::parse_unsigned(name, s, std::numeric_limits<T>::max()));
-      else
-        field = static_cast<T>(d::parse_integer(name, s, std::numeric_limits<T>::min(), std::numeric_limits<T>::max()));
-    };
+    d::bind_integer(ref, field);
   } else if constexpr (std::is_same_v<T, std::string>) {
     ref.text = [&field] { return field; };
     ref.set = [&field, name](const std::vector<std::string>& v) { field = d::single(name, v); };
   } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
-    ref.kind = OptionRef::Kind::List;
-    ref.choices = d::split_choices(info.choices);
-    ref.text = [&field] {
-      std::string s;
-      for (const std::string& e : field) s += (s.empty() ? "" : ",") + e;
-      return s;
-    };
-    ref.set = [&field](const std::vector<std::string>& v) {
-      field.clear();
-      for (const std::string& e : v) {
-        for (const std::string& item : d::split_choices(e.c_str())) field.push_back(item);
-      }
-    };
+    d::bind_list(ref, field);
   } else {
     static_assert(std::is_enum_v<T>, "unsupported option type");
     ref.choices = enum_choices<T>();
