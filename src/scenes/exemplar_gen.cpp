@@ -89,6 +89,32 @@ void put(Image& img, int x, int y, const Rgb& c) {
 // between stones, larger ones the stone's rounded "height". Each stone gets
 // a tint from a small palette and a brightness from its cell hash; the
 // height field is lit from the top left and value-noise grain is added.
+/// The distances from p to the nearest and second nearest feature points of
+/// a periodic grid of cells × cells (Worley's F1, F2), searched in the 5 × 5
+/// cells around (ci, cj), and the nearest one's cell.
+struct NearestFeatures {
+  double f1 = 1e9, f2 = 1e9;
+  int best = 0;
+};
+
+NearestFeatures nearest_features(const Vec2& p, int ci, int cj, const std::vector<Vec2>& feature, int cells) {
+  NearestFeatures out;
+  for (int dj = -2; dj <= 2; ++dj) {
+    for (int di = -2; di <= 2; ++di) {
+      const int i = ci + di, j = cj + dj;
+      const int c = wrap(j, cells) * cells + wrap(i, cells);
+      const Vec2 q = feature[c] + Vec2(i - wrap(i, cells), j - wrap(j, cells));
+      const double d = (p - q).norm();
+      if (d < out.f1) {
+        out.f2 = out.f1, out.f1 = d, out.best = c;
+      } else if (d < out.f2) {
+        out.f2 = d;
+      }
+    }
+  }
+  return out;
+}
+
 Image make_gravel(int size, std::uint64_t seed) {
   const int cells = std::clamp(size / 40, 4, 24);
   // Feature points, periodic.
@@ -114,28 +140,14 @@ Image make_gravel(int size, std::uint64_t seed) {
       const double u = (x + 0.5) / size, v = (y + 0.5) / size;
       const Vec2 p(u * cells, v * cells);
       const int ci = static_cast<int>(std::floor(p.x())), cj = static_cast<int>(std::floor(p.y()));
-      double f1 = 1e9, f2 = 1e9;
-      int best = 0;
-      for (int dj = -2; dj <= 2; ++dj) {
-        for (int di = -2; di <= 2; ++di) {
-          const int i = ci + di, j = cj + dj;
-          const int c = wrap(j, cells) * cells + wrap(i, cells);
-          const Vec2 q = feature[c] + Vec2(i - wrap(i, cells), j - wrap(j, cells));
-          const double d = (p - q).norm();
-          if (d < f1) {
-            f2 = f1, f1 = d, best = c;
-          } else if (d < f2) {
-            f2 = d;
-          }
-        }
-      }
-      const double edge = f2 - f1;  // ~ twice the distance to the cell border
+      const NearestFeatures near = nearest_features(p, ci, cj, feature, cells);
+      const double edge = near.f2 - near.f1;  // ~ twice the distance to the cell border
       // Warp the border slightly with noise so stones are not polygons.
       const double wobble = 0.12 * (fbm(seed, 10, u, v, 2 * cells, 2) - 0.5);
       const double e = edge + wobble;
       const std::size_t idx = texel_index(x, y, size);
       height[idx] = e <= 0.08 ? 0.0 : std::sqrt(smoothstep(0.08, 0.75, e));
-      stone[idx] = best;
+      stone[idx] = near.best;
     }
   }
   Image img = make_image(size);

@@ -89,77 +89,100 @@ void add_polygon(FrameMesh& mesh, const int* poly, int count) {
   }
 }
 
-FrameMesh mesh_implicit_2d(const Implicit2D& F, const Vec2& lo, const Vec2& hi, double h) {
-  // Even cell counts keep the grid (and its diagonal pattern) mirror
-  // symmetric about the box centre.
-  auto cells = [&](double extent) {
-    const int n = std::max(2, static_cast<int>(std::ceil(extent / h)));
-    return n + n % 2;
-  };
-  const int nx = cells(hi.x() - lo.x()), ny = cells(hi.y() - lo.y());
-  const Vec2 origin = 0.5 * (lo + hi) - 0.5 * h * Vec2(nx, ny);
-  const int stride = nx + 1;
-  auto node_pos = [&](int n) { return Vec2(origin.x() + h * (n % stride), origin.y() + h * (n / stride)); };
-
-  const double snap = 0.08 * h;
-  std::vector<double> exact(static_cast<std::size_t>(stride) * (ny + 1));
-  std::vector<double> value(exact.size());
-  for (std::size_t n = 0; n < exact.size(); ++n) {
-    exact[n] = F(node_pos(static_cast<int>(n)));
-    const double v = exact[n];
-    value[n] = v < 0.0 ? std::min(v, -snap) : std::max(v, snap);
+/// Meshes {F < 0} on a grid of spacing h over a box: the values at the grid
+/// nodes (snapped away from 0 by 0.08 h, so that no sliver is cut), and per
+/// triangle of the grid the clipped polygon, its vertices shared between
+/// neighbouring triangles (a node's, or an edge's zero crossing).
+class ContourMesher {
+ public:
+  ContourMesher(const Implicit2D& F, const Vec2& lo, const Vec2& hi, double h) : F_(F), h_(h) {
+    // Even cell counts keep the grid (and its diagonal pattern) mirror
+    // symmetric about the box centre.
+    auto cells = [&](double extent) {
+      const int n = std::max(2, static_cast<int>(std::ceil(extent / h)));
+      return n + n % 2;
+    };
+    nx_ = cells(hi.x() - lo.x()), ny_ = cells(hi.y() - lo.y());
+    origin_ = 0.5 * (lo + hi) - 0.5 * h * Vec2(nx_, ny_);
+    stride_ = nx_ + 1;
+    const double snap = 0.08 * h;
+    exact_.resize(static_cast<std::size_t>(stride_) * (ny_ + 1));
+    value_.resize(exact_.size());
+    for (std::size_t n = 0; n < exact_.size(); ++n) {
+      exact_[n] = F(node_pos(static_cast<int>(n)));
+      const double v = exact_[n];
+      value_[n] = v < 0.0 ? std::min(v, -snap) : std::max(v, snap);
+    }
+    node_vertex_.assign(exact_.size(), -1);
   }
 
-  FrameMesh mesh;
-  std::vector<int> node_vertex(exact.size(), -1);
-  std::unordered_map<std::uint64_t, int> edge_vertex;
-  auto add_vertex = [&](const Vec2& p) {
-    mesh.positions.emplace_back(p.x(), p.y(), 0.0);
-    return static_cast<int>(mesh.positions.size()) - 1;
-  };
-  auto vertex_at_node = [&](int n) {
-    if (node_vertex[n] < 0) node_vertex[n] = add_vertex(node_pos(n));
-    return node_vertex[n];
-  };
-  auto vertex_on_edge = [&](int a, int b) {
+  FrameMesh mesh() {
+    for (int j = 0; j < ny_; ++j) {
+      for (int i = 0; i < nx_; ++i) {
+        const int n00 = j * stride_ + i, n10 = n00 + 1, n01 = n00 + stride_, n11 = n01 + 1;
+        if ((i + j) % 2 == 0) {
+          clip_triangle(n00, n10, n11);
+          clip_triangle(n00, n11, n01);
+        } else {
+          clip_triangle(n00, n10, n01);
+          clip_triangle(n10, n11, n01);
+        }
+      }
+    }
+    return std::move(mesh_);
+  }
+
+ private:
+  Vec2 node_pos(int n) const { return Vec2(origin_.x() + h_ * (n % stride_), origin_.y() + h_ * (n / stride_)); }
+
+  int add_vertex(const Vec2& p) {
+    mesh_.positions.emplace_back(p.x(), p.y(), 0.0);
+    return static_cast<int>(mesh_.positions.size()) - 1;
+  }
+
+  int vertex_at_node(int n) {
+    if (node_vertex_[n] < 0) node_vertex_[n] = add_vertex(node_pos(n));
+    return node_vertex_[n];
+  }
+
+  int vertex_on_edge(int a, int b) {
     if (a > b) std::swap(a, b);  // canonical orientation: same point from both sides
     const std::uint64_t key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-    auto it = edge_vertex.find(key);
-    if (it != edge_vertex.end()) return it->second;
+    auto it = edge_vertex_.find(key);
+    if (it != edge_vertex_.end()) return it->second;
     const Vec2 pa = node_pos(a), pb = node_pos(b);
     const double t =
-        std::clamp(zero_crossing(F, pa, pb, exact[a], exact[b], value[a] / (value[a] - value[b])), 0.06, 0.94);
+        std::clamp(zero_crossing(F_, pa, pb, exact_[a], exact_[b], value_[a] / (value_[a] - value_[b])), 0.06, 0.94);
     const int v = add_vertex(pa + t * (pb - pa));
-    edge_vertex.emplace(key, v);
+    edge_vertex_.emplace(key, v);
     return v;
-  };
+  }
 
-  auto clip_triangle = [&](int a, int b, int c) {
+  void clip_triangle(int a, int b, int c) {
     const int nodes[3] = {a, b, c};
     int poly[4];
     int count = 0;
     for (int k = 0; k < 3; ++k) {
       const int p = nodes[k], q = nodes[(k + 1) % 3];
-      const bool pin = value[p] < 0.0, qin = value[q] < 0.0;
+      const bool pin = value_[p] < 0.0, qin = value_[q] < 0.0;
       if (pin) poly[count++] = vertex_at_node(p);
       if (pin != qin) poly[count++] = vertex_on_edge(p, q);
     }
-    add_polygon(mesh, poly, count);
-  };
-
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      const int n00 = j * stride + i, n10 = n00 + 1, n01 = n00 + stride, n11 = n01 + 1;
-      if ((i + j) % 2 == 0) {
-        clip_triangle(n00, n10, n11);
-        clip_triangle(n00, n11, n01);
-      } else {
-        clip_triangle(n00, n10, n01);
-        clip_triangle(n10, n11, n01);
-      }
-    }
+    add_polygon(mesh_, poly, count);
   }
-  return mesh;
+
+  const Implicit2D& F_;
+  double h_;
+  int nx_ = 0, ny_ = 0, stride_ = 0;
+  Vec2 origin_;
+  std::vector<double> exact_, value_;
+  std::vector<int> node_vertex_;
+  std::unordered_map<std::uint64_t, int> edge_vertex_;
+  FrameMesh mesh_;
+};
+
+FrameMesh mesh_implicit_2d(const Implicit2D& F, const Vec2& lo, const Vec2& hi, double h) {
+  return ContourMesher(F, lo, hi, h).mesh();
 }
 
 void set_velocities(FrameMesh& mesh, const std::function<Vec2(const Vec2&)>& velocity) {

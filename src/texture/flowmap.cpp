@@ -43,6 +43,40 @@ Vec2 rest_uv(const Vec3& p, Axis axis, double tile_size) {
   return Vec2(p.x(), p.y()) / tile_size;
 }
 
+namespace {
+
+/// The two uvs of a vertex at `x` moving at `vel`: traced back over dt onto
+/// the `previous` surface (semi-Lagrangian) and read from its uv sets `uv`
+/// (none on the first frame and when both phases reset), or its rest uvs for a phase that resets (or a trace that
+/// finds no surface).
+std::array<Vec2, 2> advected_uvs(const Vec3& x, const Vec3& vel, double dt, const SurfaceIndex* previous,
+                                 const std::array<std::vector<Vec2>, 2>& uv, const std::array<bool, 2>& reset,
+                                 Axis axis, double tile) {
+  const Vec2 rest = rest_uv(x, axis, tile);
+  SurfacePoint s;
+  Vec2 inflow = Vec2::Zero();
+  if (previous) {
+    const Vec3 from = x - dt * vel;
+    s = previous->closest_point(from);
+    // Traced back beyond the rim of an open surface (inflow): the uv field
+    // is extended past the rim with the rest gradient, so the texture
+    // keeps flowing in instead of streaking from the rim's values.
+    if (s.valid() && previous->on_boundary(s)) inflow = rest_uv(from, axis, tile) - rest_uv(s.position, axis, tile);
+  }
+  std::array<Vec2, 2> out;
+  for (int k = 0; k < 2; ++k) {
+    if (reset[k] || !s.valid()) {
+      out[k] = rest;
+      continue;
+    }
+    const Tri& t = previous->mesh().triangles[s.face];
+    out[k] = interpolate(uv[k], t, s.bary) + inflow;
+  }
+  return out;
+}
+
+}  // namespace
+
 FlowMapAdvector::FlowMapAdvector(FlowMapSettings settings) : settings_(std::move(settings)) {
   settings_.flowmap.validate();
 }
@@ -74,29 +108,10 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
   const bool advect = steps_ > 0 && !(report.reset[0] && report.reset[1]);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t v = r.begin(); v != r.end(); ++v) {
-      const Vec3& x = mesh->positions[v];
-      const Vec2 rest = rest_uv(x, axis, tile);
-      SurfacePoint s;
-      Vec2 inflow = Vec2::Zero();
-      if (advect) {
-        // Semi-Lagrangian: the point this vertex came from, on the previous surface.
-        const Vec3 vel = v < mesh->velocities.size() ? mesh->velocities[v] : Vec3::Zero();
-        const Vec3 from = x - dt * vel;
-        s = surface_->closest_point(from);
-        // Traced back beyond the rim of an open surface (inflow): the uv field
-        // is extended past the rim with the rest gradient, so the texture
-        // keeps flowing in instead of streaking from the rim's values.
-        if (s.valid() && surface_->on_boundary(s)) inflow = rest_uv(from, axis, tile) - rest_uv(s.position, axis, tile);
-      }
-      for (int k = 0; k < 2; ++k) {
-        if (report.reset[k] || !s.valid()) {
-          next[k][v] = rest;
-          continue;
-        }
-        const Tri& t = surface_->mesh().triangles[s.face];
-        const std::vector<Vec2>& uv = uv_[k];
-        next[k][v] = interpolate(uv, t, s.bary) + inflow;
-      }
+      const Vec3 vel = v < mesh->velocities.size() ? mesh->velocities[v] : Vec3::Zero();
+      const std::array<Vec2, 2> uv =
+          advected_uvs(mesh->positions[v], vel, dt, advect ? surface_.get() : nullptr, uv_, report.reset, axis, tile);
+      next[0][v] = uv[0], next[1][v] = uv[1];
     }
   });
   uv_ = std::move(next);

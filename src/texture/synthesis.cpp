@@ -328,40 +328,51 @@ TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
   return map;
 }
 
+namespace {
+
+/// Calls f(texel index) for each 8-neighbour of (x, y) inside a w × h image.
+template <class F>
+void for_neighbours(int x, int y, int w, int h, F&& f) {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xx = x + dx, yy = y + dy;
+      if (xx < 0 || yy < 0 || xx >= w || yy >= h || (dx == 0 && dy == 0)) continue;
+      f(texel_index(xx, yy, w));
+    }
+  }
+}
+
+/// The empty texels of `mask` (w × h) with a filled 8-neighbour, in texel
+/// order: per row, the filled texels of the rows above, at and below it,
+/// ORed over each texel's column and its two neighbours (branch-free loops).
+std::vector<std::uint32_t> dilation_front(const std::vector<char>& mask, int w, int h) {
+  std::vector<std::vector<std::uint32_t>> rows(static_cast<std::size_t>(h));
+  tbb::parallel_for(0, h, [&](int y) {
+    std::vector<char> column(static_cast<std::size_t>(w), 0);
+    for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy) {
+      const char* m = mask.data() + texel_index(0, yy, w);
+      for (int x = 0; x < w; ++x) column[x] |= m[x];
+    }
+    const char* here = mask.data() + texel_index(0, y, w);
+    for (int x = 0; x < w; ++x) {
+      const bool near = column[x] | (x > 0 && column[x - 1]) | (x + 1 < w && column[x + 1]);
+      if (near && !here[x]) rows[y].push_back(static_cast<std::uint32_t>(texel_index(x, y, w)));
+    }
+  });
+  std::vector<std::uint32_t> front;
+  for (const auto& row : rows) front.insert(front.end(), row.begin(), row.end());
+  return front;
+}
+
+}  // namespace
+
 void dilate(Image& image, std::vector<char>& mask, int rings) {
   const int w = image.width, h = image.height, nc = image.channels;
   if (w <= 0 || h <= 0 || rings <= 0) return;
   // Each ring fills the front: the empty texels with a filled 8-neighbour
   // as the ring starts. The first front is found by one pass over the image;
   // every later one lies among the 8-neighbours of the last.
-  auto for_neighbours = [&](int x, int y, auto&& f) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int xx = x + dx, yy = y + dy;
-        if (xx < 0 || yy < 0 || xx >= w || yy >= h || (dx == 0 && dy == 0)) continue;
-        f(texel_index(xx, yy, w));
-      }
-    }
-  };
-  std::vector<std::uint32_t> front;
-  {
-    // Per row: the filled texels of the rows above, at and below it, ORed
-    // over each texel's column and its two neighbours (branch-free loops).
-    std::vector<std::vector<std::uint32_t>> rows(static_cast<std::size_t>(h));
-    tbb::parallel_for(0, h, [&](int y) {
-      std::vector<char> column(static_cast<std::size_t>(w), 0);
-      for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy) {
-        const char* m = mask.data() + texel_index(0, yy, w);
-        for (int x = 0; x < w; ++x) column[x] |= m[x];
-      }
-      const char* here = mask.data() + texel_index(0, y, w);
-      for (int x = 0; x < w; ++x) {
-        const bool near = column[x] | (x > 0 && column[x - 1]) | (x + 1 < w && column[x + 1]);
-        if (near && !here[x]) rows[y].push_back(static_cast<std::uint32_t>(texel_index(x, y, w)));
-      }
-    });
-    for (const auto& row : rows) front.insert(front.end(), row.begin(), row.end());
-  }
+  std::vector<std::uint32_t> front = dilation_front(mask, w, h);
   std::vector<char> queued(static_cast<std::size_t>(w) * h, 0);
   for (std::uint32_t i : front) queued[i] = 1;
   std::vector<std::uint32_t> next;
@@ -372,7 +383,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
       const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
       float acc[4] = {0, 0, 0, 0};
       int n = 0;
-      for_neighbours(x, y, [&](std::size_t j) {
+      for_neighbours(x, y, w, h, [&](std::size_t j) {
         if (!mask[j]) return;
         for (int c = 0; c < nc; ++c) acc[c] += image.pixel(j)[c];
         ++n;
@@ -382,7 +393,7 @@ void dilate(Image& image, std::vector<char>& mask, int rings) {
     for (std::uint32_t i : front) mask[i] = 1;
     next.clear();
     for (std::uint32_t i : front) {
-      for_neighbours(static_cast<int>(i % w), static_cast<int>(i / w), [&](std::size_t j) {
+      for_neighbours(static_cast<int>(i % w), static_cast<int>(i / w), w, h, [&](std::size_t j) {
         if (mask[j] || queued[j]) return;
         queued[j] = 1;
         next.push_back(static_cast<std::uint32_t>(j));

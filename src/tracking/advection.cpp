@@ -113,28 +113,94 @@ double projection_tolerance(const SurfacePoint& from, const Vec3& normal, const 
   return options.mpt() + options.projection_slack * std::abs((target - from.position).dot(normal));
 }
 
+namespace {
+
+/// Where a patch's vertices and centre are carried before projection: each
+/// vertex by its own velocity, or with PatchMotion::Smooth by the cubic map
+/// fitted to those (`raw` then keeps the vertices' own targets).
+struct PatchTargets {
+  std::vector<Vec3> vertex, raw;
+  Vec3 centre;
+};
+
+PatchTargets patch_targets(const Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
+                           const TrackingOptions& options, Advection scheme, PatchMotion motion) {
+  const std::size_t nv = patch.positions.size();
+  PatchTargets t;
+  t.vertex.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) t.vertex[v] = advect_target(patch.projections[v], previous, next, dt, scheme);
+  SmoothMap map;
+  if (motion == PatchMotion::Smooth && fit_smooth_map(patch, t.vertex, options, map)) {
+    t.raw = t.vertex;
+    for (std::size_t v = 0; v < nv; ++v) t.vertex[v] = map(patch.uvs[v]);
+    t.centre = map(Vec2::Zero());
+  } else {
+    t.centre = advect_target(patch.centre.point, previous, next, dt, scheme);
+  }
+  return t;
+}
+
+/// The closest point of `next` to `target`, with its distance from it.
+SurfacePoint project_onto(const SurfaceIndex& next, const Vec3& target) {
+  SurfacePoint to = next.closest_point(target);
+  to.distance = (to.position - target).norm();
+  return to;
+}
+
+/// Which of a patch's vertices stay after projection.
+struct VertexLandings {
+  std::vector<std::uint8_t> keep;
+  std::size_t kept = 0;
+  bool damaged = false;  ///< a vertex inside the disk was removed
+};
+
+/// Projects every vertex of `patch` from its target onto `next` (moving the
+/// vertices that stay); a vertex that lands beyond the projection tolerance
+/// or leaves through an open rim is to be removed.
+VertexLandings carry_vertices(Patch& patch, const PatchTargets& targets, const SurfaceIndex& previous,
+                              const SurfaceIndex& next, const TrackingOptions& options) {
+  const double max_projection = options.mpt();
+  const std::size_t nv = patch.positions.size();
+  VertexLandings out{std::vector<std::uint8_t>(nv, 1), nv, false};
+  for (std::size_t v = 0; v < nv; ++v) {
+    Vec3 target = targets.vertex[v];
+    SurfacePoint p = project_onto(next, target);
+    // Along an open rim (the 2D scenes' outflow boundaries) a vertex follows
+    // its own motion: the map, fitted to a flow along a rim drawn with
+    // chords, lands a hair inside or outside it, which would turn rim edges
+    // into patch borders or remove their vertices.
+    if (!targets.raw.empty() && p.valid() && next.on_boundary(p, max_projection))
+      p = project_onto(next, target = targets.raw[v]);
+    const SurfacePoint rim =
+        p.valid() ? carried_rim_point(patch.projections[v], p, target, previous, next, max_projection) : SurfacePoint{};
+    const bool on_rim = rim.valid();
+    if (on_rim) p = rim;
+    // Most points land within mpt; only the others need the normal's share.
+    if (!p.valid() ||
+        (p.distance > max_projection &&
+         p.distance >
+             projection_tolerance(patch.projections[v], previous.normal_at(patch.projections[v]), target, options)) ||
+        (!on_rim && left_through_rim(p, next, max_projection))) {
+      out.keep[v] = 0;
+      --out.kept;
+      out.damaged = out.damaged || patch.uvs[v].norm() < options.d();
+      continue;
+    }
+    patch.projections[v] = p;
+    patch.positions[v] = p.position;
+  }
+  return out;
+}
+
+}  // namespace
+
 AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                           const TrackingOptions& options, Advection scheme, PatchMotion motion) {
   const double max_projection = options.mpt(), radius = options.d();
   const std::size_t nv = patch.positions.size();
-  std::vector<Vec3> targets(nv);
-  for (std::size_t v = 0; v < nv; ++v) targets[v] = advect_target(patch.projections[v], previous, next, dt, scheme);
-  Vec3 centre_target;
-  SmoothMap map;
-  std::vector<Vec3> raw;  // the vertices' own targets, when the map replaces them
-  if (motion == PatchMotion::Smooth && fit_smooth_map(patch, targets, options, map)) {
-    raw = targets;
-    for (std::size_t v = 0; v < nv; ++v) targets[v] = map(patch.uvs[v]);
-    centre_target = map(Vec2::Zero());
-  } else {
-    centre_target = advect_target(patch.centre.point, previous, next, dt, scheme);
-  }
-  auto project = [&](const Vec3& target) {
-    SurfacePoint to = next.closest_point(target);
-    to.distance = (to.position - target).norm();
-    return to;
-  };
-  SurfacePoint centre = project(centre_target);
+  const PatchTargets targets = patch_targets(patch, previous, next, dt, options, scheme, motion);
+  const Vec3& centre_target = targets.centre;
+  SurfacePoint centre = project_onto(next, centre_target);
   if (!centre.valid()) return AdvectResult::CentreLost;
   const SurfacePoint centre_rim =
       carried_rim_point(patch.centre.point, centre, centre_target, previous, next, max_projection);
@@ -161,45 +227,16 @@ AdvectResult advect_patch(Patch& patch, const SurfaceIndex& previous, const Surf
   patch.centre.point = centre;
   patch.centre.normal = next.normal_at(centre);
 
-  std::vector<std::uint8_t> keep(nv, 1);
-  std::size_t kept = nv;
-  bool removed = false, damaged = false;
-  for (std::size_t v = 0; v < nv; ++v) {
-    Vec3 target = targets[v];
-    SurfacePoint p = project(target);
-    // Along an open rim (the 2D scenes' outflow boundaries) a vertex follows
-    // its own motion: the map, fitted to a flow along a rim drawn with
-    // chords, lands a hair inside or outside it, which would turn rim edges
-    // into patch borders or remove their vertices.
-    if (!raw.empty() && p.valid() && next.on_boundary(p, max_projection)) p = project(target = raw[v]);
-    const SurfacePoint rim =
-        p.valid() ? carried_rim_point(patch.projections[v], p, target, previous, next, max_projection) : SurfacePoint{};
-    const bool on_rim = rim.valid();
-    if (on_rim) p = rim;
-    // Most points land within mpt; only the others need the normal's share.
-    if (!p.valid() ||
-        (p.distance > max_projection &&
-         p.distance >
-             projection_tolerance(patch.projections[v], previous.normal_at(patch.projections[v]), target, options)) ||
-        (!on_rim && left_through_rim(p, next, max_projection))) {
-      keep[v] = 0;
-      --kept;
-      removed = true;
-      damaged = damaged || patch.uvs[v].norm() < radius;
-      continue;
-    }
-    patch.projections[v] = p;
-    patch.positions[v] = p.position;
-  }
-  if (centre_missed && !(2 * kept > nv)) return AdvectResult::CentreLost;
-  if (removed)
-    remove_vertices(patch, keep, next);
+  const VertexLandings landed = carry_vertices(patch, targets, previous, next, options);
+  if (centre_missed && !(2 * landed.kept > nv)) return AdvectResult::CentreLost;
+  if (landed.kept < nv)
+    remove_vertices(patch, landed.keep, next);
   else
     update_border(patch, next);
   if (patch.triangles.empty()) return AdvectResult::Emptied;
   if (centre_left) return AdvectResult::LeftThroughRim;
   if (centre_missed) return AdvectResult::CentreMoved;
-  return damaged ? AdvectResult::Damaged : AdvectResult::Kept;
+  return landed.damaged ? AdvectResult::Damaged : AdvectResult::Kept;
 }
 
 namespace {

@@ -309,6 +309,40 @@ Tracker::UnpackedState Tracker::unpacked_state() const {
   return {w.streams()};
 }
 
+namespace {
+
+/// One patch of a state file, checked against itself and the frame's `mesh`
+/// (InputError naming `path` for a corrupt one).
+void read_patch(Reader& r, Patch& p, const FrameMesh& mesh, const std::string& path) {
+  std::uint8_t state, cause;
+  std::int32_t created, flagged, density, close_frames, recut;
+  r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
+  r.get(close_frames), r.get(recut);
+  r.get(p.sunk);
+  const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
+  p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
+  p.recut_frame = recut;
+  r.get(p.centre.point), r.get(p.centre.normal), r.get(p.anchor), r.get(p.texture_offset);
+  r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
+  r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
+  r.get_vector(p.recovery);
+  r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
+  const std::size_t nv = p.projections.size();
+  p.positions.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
+  bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
+            (p.recovery.empty() || p.recovery.size() == nv) && p.rest.size() == p.triangles.size() &&
+            close_frames >= 0 && std::isfinite(p.sunk) && known;
+  for (const Tri& tri : p.triangles) {
+    for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
+  }
+  for (const SurfacePoint& s : p.projections)
+    ok = ok && s.face >= 0 && static_cast<std::size_t>(s.face) < mesh.triangles.size();
+  if (!ok) throw InputError(path, "corrupt state file (patch " + std::to_string(p.id) + ")");
+}
+
+}  // namespace
+
 Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> mesh) {
   require_regular_file(path, "state file");
   std::ifstream in(path, std::ios::binary);
@@ -326,33 +360,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     throw InputError(path, "the state does not match frame " + std::to_string(frame) + "'s mesh (input changed?)");
   }
   t.patches_.resize(count);
-  for (Patch& p : t.patches_) {
-    std::uint8_t state, cause;
-    std::int32_t created, flagged, density, close_frames, recut;
-    r.get(p.id), r.get(state), r.get(p.kt), r.get(created), r.get(flagged), r.get(density), r.get(cause);
-    r.get(close_frames), r.get(recut);
-    r.get(p.sunk);
-    const bool known = enum_from_raw(state, p.state) && enum_from_raw(cause, p.cause);
-    p.created_frame = created, p.flagged_frame = flagged, p.density = density, p.close_frames = close_frames;
-    p.recut_frame = recut;
-    r.get(p.centre.point), r.get(p.centre.normal), r.get(p.anchor), r.get(p.texture_offset);
-    r.get_vector(p.projections), r.get_vector(p.uvs), r.get_vector(p.triangles);
-    r.get_vector(p.rest), r.get_vector(p.border), r.get_vector(p.quality), r.get_vector(p.weight);
-    r.get_vector(p.recovery);
-    r.get(p.max_distortion), r.get(p.disk_weight), r.get(p.motion);
-    const std::size_t nv = p.projections.size();
-    p.positions.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) p.positions[v] = p.projections[v].position;
-    bool ok = p.uvs.size() == nv && p.border.size() == nv && p.quality.size() == nv && p.weight.size() == nv &&
-              (p.recovery.empty() || p.recovery.size() == nv) && p.rest.size() == p.triangles.size() &&
-              close_frames >= 0 && std::isfinite(p.sunk) && known;
-    for (const Tri& tri : p.triangles) {
-      for (int v : tri) ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
-    }
-    for (const SurfacePoint& s : p.projections)
-      ok = ok && s.face >= 0 && static_cast<std::size_t>(s.face) < mesh->triangles.size();
-    if (!ok) throw InputError(path, "corrupt state file (patch " + std::to_string(p.id) + ")");
-  }
+  for (Patch& p : t.patches_) read_patch(r, p, *mesh, path);
   std::uint64_t retired;
   r.get(retired);
   if (retired > t.next_id_) throw InputError(path, "corrupt state file (bad retired count)");
