@@ -784,23 +784,11 @@ std::string html_verdict(const Verdict& verdict, const std::vector<std::string>&
   return html.str();
 }
 
-/// The self-contained HTML report: summary, removal table, charts, frames.
-std::string html_report(const std::string& run_dir, const std::vector<Row>& rows, const Row& summary,
-                        const PatchHistory& history, const std::vector<std::string>& images, const Verdict& verdict,
-                        const std::vector<std::string>& worst_images) {
+/// The report's table of why patches leave: per rule, the patches it
+/// retired by age bucket.
+std::string html_retire_table(const PatchHistory& history) {
   std::ostringstream html;
-  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << run_dir
-       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
-          "10px;text-align:right}"
-          "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
-  html << "<h1>fluidtex eval</h1><p>Run: <code>" << run_dir << "</code>, " << rows.size()
-       << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
-          "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
-          "move, and random points).</p>";
-  html << html_verdict(verdict, worst_images);
-  html << "<h2>Summary</h2><p>Means over the frames measured (metrics.jsonl has every frame).</p><table>";
-  for (const auto& [k, v] : summary) html << "<tr><th>" << k << "</th><td>" << number(v) << "</td></tr>";
-  html << "</table><h2>Why patches leave</h2><p>Patches flagged to fade out or lost, by the rule that fired "
+  html << "<h2>Why patches leave</h2><p>Patches flagged to fade out or lost, by the rule that fired "
           "and their age then (frames since creation), over all frames.</p><table><tr><th>rule</th>";
   for (int b = 0; b < kAgeBuckets; ++b) {
     std::string name = age_bucket_name(b);
@@ -814,8 +802,14 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
     for (int n : history.retired_by_age[c]) html << "<td>" << n << "</td>", total += n;
     html << "<td>" << total << "</td></tr>";
   }
-  html << "</table><h2>Per frame</h2>";
-  const std::vector<std::tuple<std::string, std::vector<std::string>, std::vector<std::string>>> charts = {
+  html << "</table>";
+  return html.str();
+}
+
+/// The report's charts: title, the row keys drawn, their legends.
+using Chart = std::tuple<std::string, std::vector<std::string>, std::vector<std::string>>;
+const std::vector<Chart>& report_charts() {
+  static const std::vector<Chart> charts = {
       {"Coverage: uncovered share (should be 0)",
        {"uncovered_area", "uncovered_texels"},
        {"surface area", "chart texels"}},
@@ -849,7 +843,28 @@ std::string html_report(const std::string& run_dir, const std::vector<Row>& rows
       {"Contrast σ_out / σ_exemplar", {"contrast_r", "contrast_g", "contrast_b", "contrast"}, {"R", "G", "B", "grey"}},
       {"Spectrum distance to the exemplar", {"spectrum_distance"}, {"log-spectrum RMS"}},
   };
-  for (const auto& [title, ks, labels] : charts) html << svg_chart(title, rows, ks, labels) << "\n";
+  return charts;
+}
+
+/// The self-contained HTML report: summary, removal table, charts, frames.
+std::string html_report(const std::string& run_dir, const std::vector<Row>& rows, const Row& summary,
+                        const PatchHistory& history, const std::vector<std::string>& images, const Verdict& verdict,
+                        const std::vector<std::string>& worst_images) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>fluidtex eval: " << run_dir
+       << "</title><style>body{font-family:sans-serif;margin:24px;max-width:1200px}td,th{padding:2px "
+          "10px;text-align:right}"
+          "th{text-align:left}figure{display:inline-block;margin:6px}img{max-width:280px}</style></head><body>";
+  html << "<h1>fluidtex eval</h1><p>Run: <code>" << run_dir << "</code>, " << rows.size()
+       << " frames. Warping error is the mean colour change along the flow between consecutive frames in units of the "
+          "exemplar's σ; a texture that moves with the fluid stays far below both baselines (a texture that does not "
+          "move, and random points).</p>";
+  html << html_verdict(verdict, worst_images);
+  html << "<h2>Summary</h2><p>Means over the frames measured (metrics.jsonl has every frame).</p><table>";
+  for (const auto& [k, v] : summary) html << "<tr><th>" << k << "</th><td>" << number(v) << "</td></tr>";
+  html << "</table>" << html_retire_table(history);
+  html << "<h2>Per frame</h2>";
+  for (const auto& [title, ks, labels] : report_charts()) html << svg_chart(title, rows, ks, labels) << "\n";
   html << "<h2>Frames</h2>";
   for (const std::string& png : images) {
     html << "<figure><img src='" << png_data_uri(png) << "'><figcaption>"
@@ -897,6 +912,61 @@ std::vector<std::string> render_worst_frames(const Verdict& verdict, const std::
 
 }  // namespace
 
+namespace {
+
+/// The frames a sequence is read from: its own and those on disk between
+/// them (followed), and the liquid's motion from one frame to another
+/// through them.
+class FollowedFrames {
+ public:
+  explicit FollowedFrames(const Sequence& sequence) : read_(sequence.followed()) {}
+
+  std::shared_ptr<const FrameMesh> mesh(int frame) const {
+    return load(std::lower_bound(read_.frames().begin(), read_.frames().end(), frame));
+  }
+
+  LiquidMotion motion_between(int from, int to) const {
+    const std::vector<int>& followed = read_.frames();
+    const auto first = std::upper_bound(followed.begin(), followed.end(), from);
+    const auto last = std::lower_bound(first, followed.end(), to);
+    LiquidMotion motion((first == last ? to - from : *first - from) / read_.fps());
+    for (auto it = first; it != last; ++it) {
+      const int next = it + 1 == last ? to : *(it + 1);
+      motion.add_step(load(it), (next - *it) / read_.fps());
+    }
+    return motion;
+  }
+
+ private:
+  std::shared_ptr<const FrameMesh> load(std::vector<int>::const_iterator at) const {
+    return std::make_shared<const FrameMesh>(read_.load(static_cast<std::size_t>(at - read_.frames().begin())));
+  }
+
+  Sequence read_;
+};
+
+/// OUT/eval/: per-frame lines, a summary (means over the frames measured),
+/// the verdict and the report (with the worst frames rendered).
+EvalSummary write_eval_outputs(const EvalOptions& options, const std::string& atlas_pattern,
+                               const std::string& mesh_pattern, const std::vector<Row>& rows,
+                               const PatchHistory& history, const std::vector<std::string>& images) {
+  const std::string dir = options.run_dir + "/eval";
+  std::string lines;
+  for (const Row& r : rows) lines += to_json_object(r) + "\n";
+  write_text_atomically(dir + "/metrics.jsonl", lines);
+  const Row summary = summarize(rows, history.lifetimes);
+  write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
+  EvalSummary out{rows.size(), dir + "/report.html", judge(rows, options.thresholds)};
+  write_text_atomically(dir + "/verdict.json", verdict_json(out.verdict));
+  const std::vector<std::string> worst_images =
+      render_worst_frames(out.verdict, atlas_pattern, mesh_pattern, dir, options.render);
+  write_text_atomically(dir + "/report.html",
+                        html_report(options.run_dir, rows, summary, history, images, out.verdict, worst_images));
+  return out;
+}
+
+}  // namespace
+
 EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Reporter& reporter) {
   JobOptions job = job_in;
   job.output.dir = options.run_dir;
@@ -906,21 +976,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   InputOptions input = options.input;
   input.skipped_frames = SkippedFrames::Follow;
   const Sequence sequence(input);
-  const Sequence read = sequence.followed();  // what the frames are read from
-  const std::vector<int>& followed = read.frames();
-  auto load = [&](std::vector<int>::const_iterator at) {
-    return std::make_shared<const FrameMesh>(read.load(static_cast<std::size_t>(at - followed.begin())));
-  };
-  auto motion_between = [&](int from, int to) {
-    const auto first = std::upper_bound(followed.begin(), followed.end(), from);
-    const auto last = std::lower_bound(first, followed.end(), to);
-    LiquidMotion motion((first == last ? to - from : *first - from) / read.fps());
-    for (auto it = first; it != last; ++it) {
-      const int next = it + 1 == last ? to : *(it + 1);
-      motion.add_step(load(it), (next - *it) / read.fps());
-    }
-    return motion;
-  };
+  const FollowedFrames read(sequence);
   const Exemplar exemplar =
       load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar, job.synthesis.displacement);
   const std::string dir = options.run_dir + "/eval";
@@ -941,7 +997,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     reporter.progress(i, sequence.size(), "eval");
     // Read among the frames between (velocities from positions are central
     // differences over them, as a run that follows them reads them).
-    auto mesh = load(std::lower_bound(followed.begin(), followed.end(), frame));
+    auto mesh = read.mesh(frame);
     TexturedFrame current = read_run_frame(atlas_pattern, mesh_pattern, frame);
     Row row{{"frame", frame}};
     const std::string state = state_path(options.run_dir, frame);
@@ -949,13 +1005,13 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       const Tracker tracker = Tracker::load(state, mesh);
       if (!resolved) resolved = tracker.settings().method;
       history.add(frame, tracker, row);
-      change.add(frame, tracker, read.fps(), row);
+      change.add(frame, tracker, sequence.fps(), row);
       patch_metrics(tracker, job, exemplar, row);
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
     texture_metrics(current, *resolved, exemplar, row);
     if (previous) {
-      const LiquidMotion motion = motion_between(sequence.frames()[i - 1], frame);
+      const LiquidMotion motion = read.motion_between(sequence.frames()[i - 1], frame);
       flow_metrics(*previous_mesh, *previous, current, motion, exemplar, options, frame, row);
     }
     if (static_cast<int>(i) % image_every == 0 && static_cast<int>(images.size()) < options.report_images) {
@@ -968,19 +1024,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     previous_mesh = mesh;
   }
   history.finish(sequence.frames().back());
-
-  // Outputs: per-frame lines, a summary (means over the frames measured), the report.
-  std::string lines;
-  for (const Row& r : rows) lines += to_json_object(r) + "\n";
-  write_text_atomically(dir + "/metrics.jsonl", lines);
-  const Row summary = summarize(rows, history.lifetimes);
-  write_text_atomically(dir + "/summary.json", to_json_object(summary) + "\n");
-  EvalSummary out{rows.size(), dir + "/report.html", judge(rows, options.thresholds)};
-  write_text_atomically(dir + "/verdict.json", verdict_json(out.verdict));
-  const std::vector<std::string> worst_images =
-      render_worst_frames(out.verdict, atlas_pattern, mesh_pattern, dir, options.render);
-  write_text_atomically(dir + "/report.html",
-                        html_report(options.run_dir, rows, summary, history, images, out.verdict, worst_images));
+  EvalSummary out = write_eval_outputs(options, atlas_pattern, mesh_pattern, rows, history, images);
   reporter.progress(sequence.size(), sequence.size(), "eval");
   return out;
 }

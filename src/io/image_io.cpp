@@ -377,28 +377,6 @@ namespace {
 /// metadata and the format's compression.
 OIIO::ImageSpec output_spec(const std::string& path, Format format, OIIO::TypeDesc type, const Image& image,
                             const ImageWriteOptions& options) {
-  const OIIO::ImageSpec spec = output_spec(path, format, type, image, options);
-  return spec;
-}
-
-}  // namespace
-
-void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
-  const Format format = format_of(path);
-  const OIIO::TypeDesc type = pixel_type(path, format, options.depth);
-  if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
-      image.pixels.size() != static_cast<size_t>(image.width) * image.height * image.channels)
-    throw InternalError(path + ": image buffer does not match its " + std::to_string(image.width) + "x" +
-                        std::to_string(image.height) + "x" + std::to_string(image.channels) + " size");
-  if (format == Format::Png && image.channels > 4)
-    throw InternalError(path + ": PNG holds at most 4 channels, got " + std::to_string(image.channels));
-  // TIFF could hold tiles, but OpenImageIO pads the partial tiles of the
-  // small MIP levels with whatever memory held: the bytes would differ from
-  // run to run.
-  if (format != Format::Exr && options.layout != TextureLayout::Scanline) {
-    throw InputError(path, std::string("a ") + enum_name(options.layout) + " texture is written as .exr");
-  }
-
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
   spec.channelnames = channel_names(image, options, path);
   spec.alpha_channel = -1;
@@ -433,6 +411,28 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
     case Format::Png: spec.attribute("png:compressionLevel", 6); break;
     case Format::Tiff: spec.attribute("compression", "zip"); break;
   }
+  return spec;
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
+  const Format format = format_of(path);
+  const OIIO::TypeDesc type = pixel_type(path, format, options.depth);
+  if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
+      image.pixels.size() != static_cast<size_t>(image.width) * image.height * image.channels)
+    throw InternalError(path + ": image buffer does not match its " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + "x" + std::to_string(image.channels) + " size");
+  if (format == Format::Png && image.channels > 4)
+    throw InternalError(path + ": PNG holds at most 4 channels, got " + std::to_string(image.channels));
+  // TIFF could hold tiles, but OpenImageIO pads the partial tiles of the
+  // small MIP levels with whatever memory held: the bytes would differ from
+  // run to run.
+  if (format != Format::Exr && options.layout != TextureLayout::Scanline) {
+    throw InputError(path, std::string("a ") + enum_name(options.layout) + " texture is written as .exr");
+  }
+
+  const OIIO::ImageSpec spec = output_spec(path, format, type, image, options);
 
   if (options.layout != TextureLayout::Scanline) {
     write_texture(path, image, spec, type, options.layout);

@@ -94,6 +94,34 @@ inline bool parse_type(const std::string& s, PlyType& t) {
 inline std::string canonical_position_name(int axis) { return "fluidtex_p" + std::to_string(axis); }
 inline std::string canonical_velocity_name(int axis) { return "fluidtex_v" + std::to_string(axis); }
 
+/// An `element <name> <count>` line's element (`bad(why)` makes the error).
+template <class Bad>
+PlyElement parse_ply_element(const std::vector<std::string>& tok, const Bad& bad) {
+  unsigned long long count = 0;
+  const auto parsed = tok.size() == 3 ? std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count)
+                                      : std::from_chars_result{nullptr, std::errc::invalid_argument};
+  if (parsed.ec != std::errc() || parsed.ptr != tok[2].data() + tok[2].size())
+    throw bad("expected 'element <name> <count>' with a decimal count");
+  if (count > 0x7fffffffull) throw bad("element count " + tok[2] + " is too large");
+  return {tok[1], static_cast<std::size_t>(count), {}};
+}
+
+/// A `property <type> <name>` or `property list <count type> <type> <name>`
+/// line's property (`bad(why)` makes the error).
+template <class Bad>
+PlyProperty parse_ply_property(const std::vector<std::string>& tok, const Bad& bad) {
+  PlyProperty p;
+  const bool list = tok.size() == 5 && tok[1] == "list";
+  if (!list && tok.size() != 3) throw bad("expected 'property <type> <name>' or 'property list ...'");
+  const std::string& value_type = list ? tok[3] : tok[1];
+  if (list && !parse_type(tok[2], p.count_type)) throw bad("unknown list count type '" + tok[2] + "'");
+  if (!parse_type(value_type, p.type)) throw bad("unknown property type '" + value_type + "'");
+  if (list && is_float(p.count_type)) throw bad("list count type must be an integer type");
+  p.is_list = list;
+  p.name = tok.back();
+  return p;
+}
+
 /// Parses the header; throws InputError for bad magic, an unsupported format,
 /// unknown types or keywords, or a header without end_header.
 inline PlyHeader parse_ply_header(const std::string& path, const std::string& bytes) {
@@ -137,25 +165,10 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
         throw InputError(path, "unsupported PLY format '" + tok[1] + "'");
       have_format = true;
     } else if (tok[0] == "element") {
-      unsigned long long count = 0;
-      const auto parsed = tok.size() == 3 ? std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), count)
-                                          : std::from_chars_result{nullptr, std::errc::invalid_argument};
-      if (parsed.ec != std::errc() || parsed.ptr != tok[2].data() + tok[2].size())
-        throw bad("expected 'element <name> <count>' with a decimal count");
-      if (count > 0x7fffffffull) throw bad("element count " + tok[2] + " is too large");
-      h.elements.push_back({tok[1], static_cast<std::size_t>(count), {}});
+      h.elements.push_back(parse_ply_element(tok, bad));
     } else if (tok[0] == "property") {
       if (h.elements.empty()) throw bad("property before any element");
-      PlyProperty p;
-      const bool list = tok.size() == 5 && tok[1] == "list";
-      if (!list && tok.size() != 3) throw bad("expected 'property <type> <name>' or 'property list ...'");
-      const std::string& value_type = list ? tok[3] : tok[1];
-      if (list && !parse_type(tok[2], p.count_type)) throw bad("unknown list count type '" + tok[2] + "'");
-      if (!parse_type(value_type, p.type)) throw bad("unknown property type '" + value_type + "'");
-      if (list && is_float(p.count_type)) throw bad("list count type must be an integer type");
-      p.is_list = list;
-      p.name = tok.back();
-      h.elements.back().properties.push_back(p);
+      h.elements.back().properties.push_back(parse_ply_property(tok, bad));
     } else {
       throw bad("unknown keyword '" + tok[0] + "'");
     }
@@ -373,6 +386,53 @@ inline std::vector<std::array<std::string, 3>> velocity_candidates(const std::st
   return {names};
 }
 
+/// The index of the vertex property `name`; InputError unless it is float or
+/// double (`what` it holds names it).
+inline int float_property(const std::string& path, const PlyElement& vertex, const std::string& name,
+                          const char* what) {
+  const int i = vertex.find(name);
+  if (!is_float(vertex.properties[i].type))
+    throw InputError(path, std::string("wrong property type for ") + what + " '" + name +
+                               "': " + type_name(vertex.properties[i].type) + " (expected float or double)");
+  return i;
+}
+
+/// Sets the velocity properties of `l` from the first candidate names
+/// (velocity_candidates) the vertex has; InputError naming those tried when
+/// none.
+inline void find_velocity_properties(const std::string& path, const PlyElement& vertex,
+                                     const std::string& velocity_attr, PlyLayout& l) {
+  std::string tried;
+  for (const auto& c : velocity_candidates(path, velocity_attr)) {
+    tried += (tried.empty() ? "" : ", ") + c[0] + "/" + c[1] + "/" + c[2];
+    if (vertex.find(c[0]) < 0 || vertex.find(c[1]) < 0 || vertex.find(c[2]) < 0) continue;
+    for (int a = 0; a < 3; ++a) {
+      l.velocity_prop[a] = float_property(path, vertex, c[a], "velocity");
+      l.velocity_type[a] = vertex.properties[l.velocity_prop[a]].type;
+    }
+    l.has_velocity = true;
+    return;
+  }
+  throw InputError(path, "no velocity properties (tried " + tried +
+                             "); name them with --velocity-attr or use --velocity-from-positions");
+}
+
+/// InputError unless the face element's first property is its integer
+/// vertex_indices (or vertex_index) list.
+inline void check_face_indices(const std::string& path, const PlyElement& face) {
+  const bool first_is_indices =
+      !face.properties.empty() && face.properties[0].is_list &&
+      (face.properties[0].name == "vertex_indices" || face.properties[0].name == "vertex_index");
+  if (!first_is_indices) {
+    const bool later = face.find("vertex_indices") >= 0 || face.find("vertex_index") >= 0;
+    throw InputError(path, later ? "unsupported PLY layout: vertex_indices must be the first face property"
+                                 : "faces have no vertex_indices list");
+  }
+  if (is_float(face.properties[0].type))
+    throw InputError(path, std::string("wrong property type for face indices: ") + type_name(face.properties[0].type) +
+                               " (expected an integer type)");
+}
+
 /// Validates the header against what fluidtex needs and returns the layout.
 inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, const std::string& bytes,
                                const std::string& velocity_attr, bool require_velocities) {
@@ -399,48 +459,14 @@ inline PlyLayout plan_ply_read(const std::string& path, const PlyHeader& h, cons
                                    h.elements[e].name + "' before the faces");
   }
   const PlyElement& vertex = h.elements[vi];
-  auto typed = [&](const std::string& name, const char* what) {
-    const int i = vertex.find(name);
-    if (!is_float(vertex.properties[i].type))
-      throw InputError(path, std::string("wrong property type for ") + what + " '" + name +
-                                 "': " + type_name(vertex.properties[i].type) + " (expected float or double)");
-    return i;
-  };
   const char* axes[] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     if (vertex.find(axes[a]) < 0) throw InputError(path, "no vertex positions (property x, y or z missing)");
-    l.position_prop[a] = typed(axes[a], "position");
+    l.position_prop[a] = float_property(path, vertex, axes[a], "position");
     l.position_type[a] = vertex.properties[l.position_prop[a]].type;
   }
-  if (require_velocities) {
-    const auto candidates = velocity_candidates(path, velocity_attr);
-    std::string tried;
-    for (const auto& c : candidates) {
-      tried += (tried.empty() ? "" : ", ") + c[0] + "/" + c[1] + "/" + c[2];
-      if (vertex.find(c[0]) < 0 || vertex.find(c[1]) < 0 || vertex.find(c[2]) < 0) continue;
-      for (int a = 0; a < 3; ++a) {
-        l.velocity_prop[a] = typed(c[a], "velocity");
-        l.velocity_type[a] = vertex.properties[l.velocity_prop[a]].type;
-      }
-      l.has_velocity = true;
-      break;
-    }
-    if (!l.has_velocity)
-      throw InputError(path, "no velocity properties (tried " + tried +
-                                 "); name them with --velocity-attr or use --velocity-from-positions");
-  }
-  const PlyElement& face = h.elements[fi];
-  const bool first_is_indices =
-      !face.properties.empty() && face.properties[0].is_list &&
-      (face.properties[0].name == "vertex_indices" || face.properties[0].name == "vertex_index");
-  if (!first_is_indices) {
-    const bool later = face.find("vertex_indices") >= 0 || face.find("vertex_index") >= 0;
-    throw InputError(path, later ? "unsupported PLY layout: vertex_indices must be the first face property"
-                                 : "faces have no vertex_indices list");
-  }
-  if (is_float(face.properties[0].type))
-    throw InputError(path, std::string("wrong property type for face indices: ") + type_name(face.properties[0].type) +
-                               " (expected an integer type)");
+  if (require_velocities) find_velocity_properties(path, vertex, velocity_attr, l);
+  check_face_indices(path, h.elements[fi]);
   l.body_end =
       h.format == PlyFormat::Ascii ? check_ascii_body(path, h, l, bytes) : check_binary_size(path, h, l, bytes);
   return l;

@@ -67,7 +67,8 @@ PlasticSystem plastic_system(const Patch& patch, double yield) {
     Eigen::Matrix2d plastic = Eigen::Matrix2d::Identity();
     if (flat_edges.determinant() > 0.0) {
       const Eigen::JacobiSVD<Eigen::Matrix2d> svd(flat_edges * uv_edges.inverse(), Eigen::ComputeFullV);
-      const Vec2& sigma = svd.singularValues();
+      // A copy: through a reference GCC 12 sees Eigen's storage as maybe uninitialised.
+      const Vec2 sigma = svd.singularValues();  // NOLINT(performance-unnecessary-copy-initialization)
       const Vec2 clamped = sigma.cwiseMax(1.0 / yield).cwiseMin(yield);
       sys.yielded = sys.yielded || clamped != sigma;
       plastic = svd.matrixV() * sigma.cwiseQuotient(clamped).asDiagonal() * svd.matrixV().transpose();
