@@ -11,7 +11,8 @@ cd "$(dirname "$0")/.."
 # The GDAL and Xerces-C runtime libraries (second to last line) come with
 # libopencv-dev's dependencies (OpenCV's image codecs link GDAL, GDAL links
 # Xerces-C); they are listed so that the list names every library the
-# build's link closure reaches. clang-format is the tests' (Style.ClangFormat).
+# build's link closure reaches. clang-format is the tests' (Style.ClangFormat),
+# clang-tidy CI's (scripts/check_tidy.sh).
 # perl-base (Essential) and libegl-mesa0 (libegl1's dependency) come with
 # the others; they are named because the build's CMake packages reference
 # their files.
@@ -22,7 +23,7 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev libblosc-dev
   libgdal32 libxerces-c3.2
   libgtest-dev libgmock-dev
-  clang-format
+  clang-format clang-tidy
   perl-base libegl-mesa0
 )
 
