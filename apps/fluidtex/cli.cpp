@@ -211,7 +211,7 @@ void add_input_options(CLI::App* cmd, InputOptions& in, bool preview = false) {
 /// A number from `lo` to `hi`. CLI11's Range lets NaN through ("nan" parses
 /// as a double and fails neither comparison); this refuses it.
 CLI::Validator number_between(double lo, double hi) {
-  const std::string range = option_detail::format_number(lo) + " to " + option_detail::format_number(hi);
+  const std::string range = format_number(lo) + " to " + format_number(hi);
   return CLI::Validator(
       [lo, hi, range](std::string& text) -> std::string {
         double v = 0.0;

@@ -131,8 +131,8 @@ void EvalThresholds::validate() const {
   check_options(*this);
   for (const ThresholdOption& t : kThresholdOptions) {
     if (this->*t.good > this->*t.bad)
-      throw InputError("", "--" + std::string(t.good_name) + " " + option_detail::format_number(this->*t.good) +
-                               " is above --" + t.bad_name + " " + option_detail::format_number(this->*t.bad));
+      throw InputError("", "--" + std::string(t.good_name) + " " + format_number(this->*t.good) + " is above --" +
+                               t.bad_name + " " + format_number(this->*t.bad));
   }
 }
 
@@ -196,7 +196,7 @@ Verdict judge(const std::vector<MetricRow>& rows, const EvalThresholds& threshol
 
 std::string verdict_json(const Verdict& verdict) {
   std::ostringstream s;
-  auto number = [](double v) { return std::isfinite(v) ? option_detail::format_number(v) : std::string("null"); };
+  auto number = [](double v) { return std::isfinite(v) ? format_number(v) : std::string("null"); };
   s << "{\"grade\":\"" << enum_name(verdict.grade) << "\",\"line\":" << json_string(verdict.line) << ",\"figures\":[";
   for (std::size_t i = 0; i < verdict.figures.size(); ++i) {
     const VerdictFigure& f = verdict.figures[i];

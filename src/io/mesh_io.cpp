@@ -334,7 +334,7 @@ CleanReport clean_frame(const std::string& path, FrameMesh& mesh, const CleanOpt
     // Tolerances scale with the bounding box: one stray vertex far away
     // makes every real triangle "degenerate".
     throw InputError(path, "empty mesh: every face is degenerate at the scale of the bounding box (diagonal " +
-                               option_detail::format_number(diagonal) + "; a vertex far from the others?)");
+                               format_number(diagonal) + "; a vertex far from the others?)");
   }
   return cleaned;
 }

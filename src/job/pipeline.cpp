@@ -190,7 +190,7 @@ class PatchTexturing final : public Texturing {
     std::snprintf(text, sizeof text, "%.1f", growth);
     reporter.warn("frame " + std::to_string(frame) + ": the liquid's surface is " + text + " times frame " +
                   std::to_string(first_frame_) + "'s, whose size set the patch radius (--radius auto: d = " +
-                  option_detail::format_number(tracker_.settings().method.d()) +
+                  format_number(tracker_.settings().method.d()) +
                   "), so the patches multiply with it: for liquid that starts small, give --radius");
   }
 
@@ -367,10 +367,10 @@ JobRecord claim_job(const JobOptions& options, const Sequence& sequence, Reporte
 void report_frame_rate(const Sequence& sequence, Reporter& reporter) {
   const std::string first = sequence.path_of(sequence.frames().front());
   const std::optional<double> stated = sequence.stated_fps();
-  const std::string fps = option_detail::format_number(sequence.fps());
+  const std::string fps = format_number(sequence.fps());
   const FpsSource source = sequence.fps_source();
   if (source == FpsSource::Given && stated && std::abs(*stated - sequence.fps()) > 1e-6 * *stated) {
-    reporter.warn("--fps " + fps + " given, but " + first + " states " + option_detail::format_number(*stated) +
+    reporter.warn("--fps " + fps + " given, but " + first + " states " + format_number(*stated) +
                   " fps in its header: the frame step is 1/" + fps + " s, as given");
   } else if (source == FpsSource::Header) {
     reporter.info(fps + " fps, as " + first + " states in its header");

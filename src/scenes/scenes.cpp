@@ -490,7 +490,7 @@ void write_frame_ply(const std::string& path, const FrameMesh& mesh, std::option
                         std::to_string(mesh.positions.size()) + " vertices");
   }
   std::string data = "ply\nformat binary_little_endian 1.0\ncomment fluidtex example scene\n";
-  if (fps) data += "comment fps=" + option_detail::format_number(*fps) + "\n";
+  if (fps) data += "comment fps=" + format_number(*fps) + "\n";
   data += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
   for (const char* name : {"x", "y", "z", "vx", "vy", "vz"}) data += std::string("property float ") + name + "\n";
   data += "element face " + std::to_string(mesh.triangles.size()) + "\n";

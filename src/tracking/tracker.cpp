@@ -91,9 +91,9 @@ void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resol
   const double d = resolved.d();
   const double disks = surface.area() / (M_PI * d * d);
   if (disks > static_cast<double>(kMaxDisks)) {
-    throw InputError("", "--radius " + option_detail::format_number(d) + " gives about " +
-                             std::to_string(std::llround(disks)) + " Poisson disks on the first frame (at most " +
-                             std::to_string(kMaxDisks) + "): raise --radius");
+    throw InputError("", "--radius " + format_number(d) + " gives about " + std::to_string(std::llround(disks)) +
+                             " Poisson disks on the first frame (at most " + std::to_string(kMaxDisks) +
+                             "): raise --radius");
   }
 }
 

@@ -14,12 +14,6 @@ namespace fluidtex {
 
 namespace option_detail {
 
-std::string format_number(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back exactly
-  return std::string(buf, r.ptr);
-}
-
 namespace {
 
 template <class T>
@@ -129,7 +123,6 @@ bool Bounds::contains(double v) const {
 }
 
 std::string Bounds::describe() const {
-  using option_detail::format_number;
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
   if (has_min && has_max) {
     return "must be in " + std::string(min_open ? "(" : "[") + format_number(min) + ", " + format_number(max) +
@@ -145,7 +138,7 @@ namespace {
 template <class T>
 void check_number(const OptionInfo& info, T v) {
   if (!info.bounds.contains(static_cast<double>(v))) {
-    std::string text = option_detail::format_number(static_cast<double>(v));
+    std::string text = format_number(static_cast<double>(v));
     throw InputError("", "--" + std::string(info.name) + " " + info.bounds.describe() + " (got " + text + ")");
   }
 }
@@ -157,7 +150,7 @@ void check_option(const OptionInfo& info, int field) { check_number(info, field)
 void check_option(const OptionInfo& info, const std::optional<double>& field) {
   if (field && !info.bounds.contains(*field)) {
     throw InputError("", "--" + std::string(info.name) + " " + info.bounds.describe() + " or auto (got " +
-                             option_detail::format_number(*field) + ")");
+                             format_number(*field) + ")");
   }
 }
 void check_option(const OptionInfo& info, const std::vector<std::string>& field) {

@@ -1,8 +1,16 @@
 #include "fluidtex/util/strings.h"
 
+#include <charconv>
+
 #include <filesystem>
 
 namespace fluidtex {
+
+std::string format_number(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back exactly
+  return std::string(buf, r.ptr);
+}
 
 std::string to_lower(std::string s) {
   for (char& c : s) {

@@ -23,6 +23,7 @@
 
 #include "fluidtex/util/enum_names.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 
 namespace fluidtex {
 
@@ -108,7 +109,6 @@ struct OptionRef {
 };
 
 namespace option_detail {
-std::string format_number(double v);
 double parse_number(const std::string& name, const std::string& text);
 long long parse_integer(const std::string& name, const std::string& text, long long min, long long max);
 unsigned long long parse_unsigned(const std::string& name, const std::string& text, unsigned long long max);
@@ -150,7 +150,7 @@ OptionRef bind_option(const OptionInfo& info, T& field) {
     ref.set = [&field, name](const std::vector<std::string>& v) { field = d::parse_flag(name, d::single(name, v)); };
   } else if constexpr (std::is_same_v<T, double>) {
     ref.type = "FLOAT";
-    ref.text = [&field] { return d::format_number(field); };
+    ref.text = [&field] { return format_number(field); };
     ref.set = [&field, name](const std::vector<std::string>& v) { field = d::parse_number(name, d::single(name, v)); };
   } else if constexpr (std::is_same_v<T, std::optional<double>>) {
     d::bind_automatic(ref, field);
