@@ -157,8 +157,9 @@ void check_resumable(const JobRecord& job, const JobRecord& given) {
     const std::string va = as_path ? comparable_path(ta[i].text()) : ta[i].text();
     const std::string vb = as_path ? comparable_path(tb[i].text()) : tb[i].text();
     if (va == vb) continue;
-    throw InputError(path, "--" + name + " differs from the job's: " + quoted(vb) + " given, " + quoted(va) +
-                               " in the job" + restart);
+    std::string problem = "--" + name;
+    problem += " differs from the job's: " + quoted(vb) + " given, " + quoted(va) + " in the job" + restart;
+    throw InputError(path, problem);
   }
   if (job.exemplar_sha1 != given.exemplar_sha1) {
     const std::string problem = job.exemplar_sha1.empty() ? "the job has no exemplar"

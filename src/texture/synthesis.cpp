@@ -69,9 +69,8 @@ class RowSpans {
  public:
   RowSpans(const TriangleProjection::Affine3& plane, const std::array<TrianglePrism::HalfSpace, 5>& hs, double margin,
            const std::array<Vec2, 3>& face_px) {
-    for (std::size_t k = 0; k < hs.size(); ++k) {
-      add(hs[k].n.dot(plane.dx), hs[k].n.dot(plane.dy), hs[k].n.dot(plane.origin) - hs[k].c + margin);
-    }
+    for (const TrianglePrism::HalfSpace& h : hs)
+      add(h.n.dot(plane.dx), h.n.dot(plane.dy), h.n.dot(plane.origin) - h.c + margin);
     // l_k(x, y) ≥ −1e-9 (a little looser, for rounding) for the face's
     // barycentrics, affine in the atlas position (bary2).
     const Vec2 &p0 = face_px[0], &p1 = face_px[1], &p2 = face_px[2];

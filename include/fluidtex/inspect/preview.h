@@ -42,6 +42,6 @@ struct PreviewSummary {
   std::string sheet_path;  ///< empty without a sheet
 };
 
-PreviewSummary run_preview(const PreviewOptions& options);
+PreviewSummary run_preview(const PreviewOptions& given);
 
 }  // namespace fluidtex
