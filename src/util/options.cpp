@@ -162,6 +162,12 @@ void check_option(const OptionInfo& info, const std::vector<std::string>& field)
   }
 }
 
+void check_option(const OptionInfo& info, const std::string& field) {
+  const std::vector<std::string> choices = option_detail::split_choices(info.choices);
+  if (choices.empty() || std::find(choices.begin(), choices.end(), field) != choices.end()) return;
+  throw InputError("", "--" + std::string(info.name) + ": unknown value '" + field + "' (use " + info.choices + ")");
+}
+
 std::string format_toml(const std::vector<OptionRef>& options) {
   std::ostringstream out;
   std::string group;

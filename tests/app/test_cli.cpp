@@ -5,11 +5,17 @@
 #include <cctype>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
+#include "fluidtex/inspect/compare.h"
+#include "fluidtex/inspect/eval.h"
+#include "fluidtex/inspect/preview.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/mesh_io.h"
 #include "fluidtex/job/job_options.h"
+#include "fluidtex/job/synth_job.h"
+#include "fluidtex/scenes/example.h"
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/version.h"
@@ -167,6 +173,43 @@ TEST(Cli, EveryNumberRefusesNaNAndValuesOutOfRange) {
   EXPECT_EQ(out.rfind("{\"event\":\"error\"", 0), 0u) << out;
   EXPECT_EQ(run_fluidtex("eval -o nowhere --log-format json", &out), 2);
   EXPECT_EQ(out.rfind("{\"event\":\"error\"", 0), 0u) << out;
+}
+
+/// The options of every command but `run`'s job table, as their tables list them.
+std::map<std::string, std::vector<OptionInfo>> command_tables() {
+  std::map<std::string, std::vector<OptionInfo>> tables;
+  const auto collect = [&tables](const char* command) {
+    return [&tables, command](const OptionInfo& info, const auto&) { tables[command].push_back(info); };
+  };
+  JobOptions job;
+  JobOptions::for_each_option(job, collect("run"));
+  SynthRequest synth;
+  SynthRequest::for_each_option(synth, collect("synth"));
+  EvalOptions eval;
+  EvalOptions::for_each_option(eval, collect("eval"));
+  CompareOptions compare;
+  CompareOptions::for_each_option(compare, collect("compare"));
+  PreviewOptions preview;
+  PreviewOptions::for_each_option(preview, collect("preview"));
+  ExampleRequest gen;
+  ExampleRequest::for_each_option(gen, collect("gen"));
+  return tables;
+}
+
+TEST(Cli, AFlagMeansOneThingInEveryCommand) {
+  std::map<std::string, std::string> meaning;  // short flag -> long name
+  for (const auto& [command, table] : command_tables()) {
+    std::set<std::string> names;
+    for (const OptionInfo& info : table) {
+      EXPECT_TRUE(names.insert(info.name).second) << command << ": --" << info.name << " twice";
+      if (*info.alias == '\0') continue;
+      const auto [it, fresh] = meaning.emplace(info.alias, info.name);
+      EXPECT_EQ(it->second, info.name) << command << ": " << info.alias << " is --" << info.name << " here";
+    }
+  }
+  EXPECT_EQ(meaning.at("-o"), shared_options::kOutput.name);
+  EXPECT_EQ(meaning.at("-i"), shared_options::kInput.name);
+  EXPECT_EQ(meaning.at("-e"), shared_options::kExemplar.name);
 }
 
 TEST(Cli, NoTwoOutputsShareAFileAndNoOutputOverwritesAnInput) {

@@ -92,6 +92,20 @@ TEST(OptionTable, EveryTypeParsesWhatItPrints) {
   EXPECT_EQ(t[6].toml(), "\"auto\"");
 }
 
+TEST(OptionTable, ATextOptionWithChoicesRefusesTheOthers) {
+  std::string format = "ply";
+  const OptionRef ref = bind_option(OptionInfo{.name = "format", .help = "f", .choices = "ply, vdb"}, format);
+  EXPECT_EQ(ref.choices, (std::vector<std::string>{"ply", "vdb"}));
+  EXPECT_NO_THROW(ref.check());
+  ref.set({"obj"});
+  try {
+    ref.check();
+    FAIL() << "unknown text value accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--format: unknown value 'obj' (use ply, vdb)");
+  }
+}
+
 TEST(OptionTable, BadTextIsAnInputErrorNamingTheOption) {
   Sample s;
   std::vector<OptionRef> t = table(s);

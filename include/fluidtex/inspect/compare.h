@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fluidtex/util/report.h"
+#include "fluidtex/util/shared_options.h"
 
 namespace fluidtex {
 
@@ -28,6 +29,29 @@ struct CompareOptions {
   double mean_tolerance = 0.01;       ///< largest mean difference per frame
   double percentile = 99.0;           ///< which percentile of the differences is bounded
   double percentile_tolerance = 0.1;  ///< its largest value per frame
+
+  /// The options of `compare` as f(OptionInfo, field) (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    using namespace shared_options;
+    f(OptionInfo{.name = "golden", .help = "The reference run's output folder", .positional = true, .required = true},
+      o.golden);
+    f(OptionInfo{.name = "new", .help = "The run to check", .positional = true, .required = true}, o.candidate);
+    f(with_help(kSamples, "Surface points per frame"), o.samples);
+    f(with_help(kSeed, "Seed of the surface points"), o.seed);
+    f(OptionInfo{.name = "mean-tolerance",
+                 .help = "Largest mean colour difference per frame (linear, mean over channels)",
+                 .bounds = between(0.0, 1e9)},
+      o.mean_tolerance);
+    f(OptionInfo{.name = "percentile",
+                 .help = "Which percentile of the differences to bound",
+                 .bounds = between(0.0, 100.0)},
+      o.percentile);
+    f(OptionInfo{.name = "percentile-tolerance",
+                 .help = "Largest value of that percentile per frame",
+                 .bounds = between(0.0, 1e9)},
+      o.percentile_tolerance);
+  }
 };
 
 struct FrameComparison {

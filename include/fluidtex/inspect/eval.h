@@ -24,6 +24,7 @@
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/util/report.h"
+#include "fluidtex/util/shared_options.h"
 
 namespace fluidtex {
 
@@ -143,6 +144,31 @@ struct EvalOptions {
   int report_images = 4;                      ///< preview images in the report
   RenderOptions render;                       ///< camera of the flow renders and report images
   EvalThresholds thresholds;                  ///< the verdict's good / warn / bad bounds
+
+  /// The options of `eval` as f(OptionInfo, field) (util/options.h); the
+  /// thresholds have their own table (EvalThresholds).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    using namespace shared_options;
+    f(with_help(kInput, "The input sequence (default: the run's, from job.toml)"), o.input.pattern);
+    f(required(kOutput, "The run's output folder (with job.toml)"), o.run_dir);
+    f(with_help(kFrames, "Frames to evaluate (default: the run's)"), o.input.frames);
+    f(with_help(kExemplar, "Exemplar (default: the run's, from job.toml)"), o.exemplar);
+    f(with_help(kSamples, "Warping-error sample points per frame pair"), o.samples);
+    f(with_help(kSeed, "Seed of the sample points"), o.seed);
+    f(OptionInfo{.name = "flow-width",
+                 .help = "Render width for the optical-flow metric (0: skip it)",
+                 .bounds = between(0, 8192)},
+      o.flow_width);
+    f(OptionInfo{.name = "flow-max-motion",
+                 .help = "Projected motion (pixels per frame of the flow renders) from which a pixel is left out of "
+                         "the flow_slow_ figures: the optical flow is unreliable beyond",
+                 .bounds = between(1e-9, 1e9)},
+      o.flow_max_motion);
+    f(OptionInfo{.name = "images", .help = "Preview images in the report", .bounds = between(0, 1000)},
+      o.report_images);
+    f(with_help(kView, "Orthographic view of the renders: top, front, side"), o.render.view);
+  }
 };
 
 struct EvalSummary {

@@ -14,6 +14,7 @@
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/util/enum_names.h"
 #include "fluidtex/util/options.h"
+#include "fluidtex/util/shared_options.h"
 
 namespace fluidtex {
 
@@ -51,22 +52,22 @@ struct InputOptions {
   double vdb_adaptivity = 0.0;                           ///< .vdb input: volumeToMesh adaptivity
   std::string velocity_vdb;                              ///< take velocities from this VDB frame pattern
 
-  /// Every field as f(OptionInfo, field) (util/options.h).
+  /// Every field as f(OptionInfo, field) (util/options.h): which frames,
+  /// then how each is read.
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
-    f(OptionInfo{.name = "input",
-                 .help = "Input frame pattern: mesh.####.ply, mesh.%04d.ply or mesh.$F4.ply",
-                 .alias = "-i",
-                 .role = OptionRole::InputPath},
-      o.pattern);
-    f(OptionInfo{.name = "frames",
-                 .help = "Frames to use, e.g. 1-120 or 1-120x2 (default: all found)",
-                 .role = OptionRole::Free},
-      o.frames);
+    f(shared_options::kInput, o.pattern);
+    f(shared_options::kFrames, o.frames);
     f(OptionInfo{.name = "skipped-frames",
                  .help = "Frames a stepped range skips: follow (track through them, each written frame the every-frame "
                          "run's) or ignore"},
       o.skipped_frames);
+    for_each_reading_option(o, f);
+  }
+  /// The options that say how a frame is read (rate, velocities, VDB
+  /// grids), without the pattern and the frame range.
+  template <class Self, class F>
+  static void for_each_reading_option(Self& o, F&& f) {
     f(OptionInfo{.name = "fps",
                  .help = "Frames per second; the frame step is 1/fps (auto: the rate the first frame's PLY header "
                          "states in a comment, as 'fps=30' or 'fps 30', else 24)",
@@ -93,11 +94,7 @@ struct InputOptions {
                  .help = "Mesh adaptivity for .vdb input, 0 (uniform) to 1 (fewest polygons on flat parts)",
                  .bounds = between(0.0, 1.0)},
       o.vdb_adaptivity);
-    f(OptionInfo{.name = "velocity-vdb",
-                 .help = "Take each frame's velocities from this VDB frame pattern (same frame numbers), "
-                         "sampled at the mesh's vertices",
-                 .role = OptionRole::InputPath},
-      o.velocity_vdb);
+    f(shared_options::kVelocityVdb, o.velocity_vdb);
   }
   void validate() const;
 };

@@ -21,6 +21,7 @@
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/util/options.h"
+#include "fluidtex/util/shared_options.h"
 
 namespace fluidtex {
 
@@ -55,8 +56,7 @@ struct OutputOptions {
 
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
-    f(OptionInfo{.name = "output", .help = "Output folder (required)", .alias = "-o", .role = OptionRole::OutputPath},
-      o.dir);
+    f(shared_options::with_help(shared_options::kOutput, "Output folder (required)"), o.dir);
     f(OptionInfo{.name = "atlas",
                  .help = "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)",
                  .role = OptionRole::OutputPath},
@@ -215,18 +215,12 @@ void JobOptions::for_each_option(Self& o, F&& f) {
   };
   InputOptions::for_each_option(o.input, in_section(""));
   OutputOptions::for_each_option(o.output, in_section(""));
-  f(OptionInfo{.name = "exemplar",
-               .help = "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB and "
-                       "linearised, float files as linear)",
-               .alias = "-e",
-               .role = OptionRole::InputPath},
+  f(shared_options::with_help(shared_options::kExemplar,
+                              "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB and "
+                              "linearised, float files as linear)"),
     o.exemplar);
-  f(OptionInfo{.name = "threads",
-               .help = "Threads in all, image reading and writing included (0 = all cores)",
-               .bounds = at_least(0),
-               .role = OptionRole::Free},
-    o.threads);
-  f(OptionInfo{.name = "seed", .help = "Random seed"}, o.seed);
+  f(shared_options::kThreads, o.threads);
+  f(shared_options::kSeed, o.seed);
   f(OptionInfo{.name = "method",
                .help = "patches: Gagnon et al. 2019; flowmap: the two-phase advected-UV baseline (same outputs, no "
                        "state)",

@@ -15,6 +15,7 @@
 
 #include "fluidtex/job/frame_runner.h"
 #include "fluidtex/util/report.h"
+#include "fluidtex/util/shared_options.h"
 
 namespace fluidtex {
 
@@ -29,6 +30,29 @@ struct SynthRequest {
   std::string input;         ///< -i: the input frame pattern
   std::string velocity_vdb;  ///< --velocity-vdb: the velocity VDB pattern
   std::string exemplar;      ///< -e: the exemplar
+
+  /// Every field as f(OptionInfo, field) (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    using namespace shared_options;
+    f(required(kOutput, "The job's output folder (with job.toml and state/)"), o.dir);
+    f(with_help(kFrames, "Frames to texture, e.g. 7-12 (default: all of the job's)"), o.frames);
+    f(with_help(kInput,
+                "Where this machine sees the job's input frames, when not at the pattern job.toml records "
+                "(checked against each frame's state)"),
+      o.input);
+    f(with_help(kVelocityVdb,
+                "Where this machine sees the job's --velocity-vdb frames, when not where job.toml records them"),
+      o.velocity_vdb);
+    f(with_help(kExemplar,
+                "Where this machine sees the job's exemplar, when not where job.toml records it (checked by "
+                "content)"),
+      o.exemplar);
+    f(OptionInfo{.name = "prune-state",
+                 .help = "Remove the textured frames' states once all are written (the job's last state stays, for "
+                         "run --resume)"},
+      o.prune_state);
+  }
 };
 
 /// Where a synth of `frames` writes its per-frame stats:

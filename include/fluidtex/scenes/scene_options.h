@@ -5,6 +5,9 @@
 
 #include <string>
 
+#include "fluidtex/util/options.h"
+#include "fluidtex/util/shared_options.h"
+
 namespace fluidtex {
 
 struct SceneOptions {
@@ -19,6 +22,23 @@ struct SceneOptions {
   /// and pour, whose surfaces are closed).
   std::string format = "ply";
   bool staggered = false;  ///< vdb: write the velocity as a staggered (MAC) grid
+
+  /// Every field as f(OptionInfo, field) (util/options.h).
+  template <class Self, class F>
+  static void for_each_option(Self& o, F&& f) {
+    f(OptionInfo{.name = shared_options::kFrames.name, .help = "Number of frames", .bounds = at_least(1)}, o.frames);
+    f(OptionInfo{.name = "fps", .help = "Frames per second", .bounds = above(0)}, o.fps);
+    f(OptionInfo{.name = "resolution",
+                 .help = "Mesh density: grid cells (2D) or voxels (3D) across the domain",
+                 .bounds = at_least(4)},
+      o.resolution);
+    f(OptionInfo{.name = "format",
+                 .help = "ply (x y z vx vy vz) or vdb (level set 'surface' and velocity grid 'vel'; 3D scenes: drop, "
+                         "pour)",
+                 .choices = "ply,vdb"},
+      o.format);
+    f(OptionInfo{.name = "staggered", .help = "vdb: write the velocity as a staggered (MAC) grid"}, o.staggered);
+  }
 
   /// Scene time of a 1-based frame: (frame - 1) / fps.
   double time_of(int frame) const { return static_cast<double>(frame - 1) / fps; }

@@ -62,9 +62,11 @@ struct OptionInfo {
   const char* help;                      ///< one line for --help and the config comment
   Bounds bounds = {};                    ///< numeric options
   const char* alias = "";                ///< short flag, e.g. "-i"
-  const char* choices = "";              ///< comma list of the names a list option accepts
+  const char* choices = "";              ///< comma list of the names a list or text option accepts
   const char* group = "";                ///< --help section; empty: the section of the caller
   OptionRole role = OptionRole::Method;  ///< what the option is to a job's record
+  bool positional = false;               ///< a command's argument, given without a flag (NAME in --help)
+  bool required = false;                 ///< the command refuses to run without it
 };
 
 /// InputError "--NAME ..." unless `field` satisfies `info`.
@@ -72,8 +74,9 @@ void check_option(const OptionInfo& info, double field);
 void check_option(const OptionInfo& info, int field);
 void check_option(const OptionInfo& info, const std::optional<double>& field);
 void check_option(const OptionInfo& info, const std::vector<std::string>& field);
+void check_option(const OptionInfo& info, const std::string& field);  // one of info.choices, when it has some
 template <class T>
-void check_option(const OptionInfo&, const T&) {}  // strings, flags, seeds, enums: every value is valid
+void check_option(const OptionInfo&, const T&) {}  // flags, seeds, enums: every value is valid
 
 /// Checks every option `S::for_each_option` lists.
 template <class S>
@@ -157,6 +160,7 @@ OptionRef bind_option(const OptionInfo& info, T& field) {
   } else if constexpr (std::is_integral_v<T>) {
     d::bind_integer(ref, field);
   } else if constexpr (std::is_same_v<T, std::string>) {
+    ref.choices = d::split_choices(info.choices);
     ref.text = [&field] { return field; };
     ref.set = [&field, name](const std::vector<std::string>& v) { field = d::single(name, v); };
   } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
