@@ -29,6 +29,9 @@ std::vector<std::string> list_dir(const std::filesystem::path& dir);
 /// Reads a whole file as bytes.
 std::string read_file(const std::filesystem::path& path);
 
+/// The lines of `text`, without their '\n'.
+std::vector<std::string> lines_of(const std::string& text);
+
 /// Writes bytes to a file.
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 
