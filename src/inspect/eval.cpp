@@ -25,7 +25,6 @@
 #include "fluidtex/geometry/surface.h"
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
-#include "fluidtex/io/stats.h"
 #include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/texture/synthesis.h"
@@ -35,6 +34,7 @@
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/check.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/json.h"
 #include "fluidtex/util/random.h"
 
 namespace fluidtex {

@@ -4,8 +4,8 @@
 #include <limits>
 #include <sstream>
 
-#include "fluidtex/io/stats.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/json.h"
 
 namespace fluidtex {
 

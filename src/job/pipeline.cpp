@@ -12,8 +12,8 @@
 
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
-#include "fluidtex/io/stats.h"
 #include "fluidtex/job/debug_views.h"
+#include "fluidtex/job/frame_stats.h"
 #include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"

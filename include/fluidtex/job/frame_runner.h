@@ -14,7 +14,7 @@
 
 #include "fluidtex/geometry/mesh.h"
 #include "fluidtex/io/sequence.h"
-#include "fluidtex/io/stats.h"
+#include "fluidtex/job/frame_stats.h"
 #include "fluidtex/util/report.h"
 #include "fluidtex/util/timing.h"
 

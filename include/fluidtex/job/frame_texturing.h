@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "fluidtex/geometry/surface.h"
-#include "fluidtex/io/stats.h"
+#include "fluidtex/job/frame_stats.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/texture/flowmap.h"

@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/io/stats.h"
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
+#include "fluidtex/tracking/patch_counts.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/surface_change.h"
 #include "fluidtex/util/timing.h"

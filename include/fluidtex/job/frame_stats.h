@@ -1,24 +1,18 @@
-/// @file stats.h
+/// @file frame_stats.h
 /// @brief `stats.jsonl`: one JSON object per frame, appended as each frame
 /// completes (the file is rewritten atomically each time, so a crash never
 /// leaves a torn line).
 #pragma once
 
-#include <map>
+#include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "fluidtex/tracking/patch_counts.h"
 #include "fluidtex/util/timing.h"
 
 namespace fluidtex {
-
-struct PatchCounts {
-  int fading_in = 0;
-  int active = 0;
-  int fading_out_distorted = 0;
-  int fading_out_close = 0;
-  int total() const { return fading_in + active + fading_out_distorted + fading_out_close; }
-};
 
 struct FrameStats {
   int frame = 0;
@@ -39,16 +33,6 @@ struct FrameStats {
 /// shortest round-trip (std::to_chars); non-finite numbers are written as
 /// null; keys are JSON-escaped.
 std::string to_json_line(const FrameStats& stats);
-
-/// `v` as to_json_line writes numbers (shortest round trip; null when not finite).
-std::string json_number(double v);
-
-/// `text` as a JSON string: quoted, escaped (UTF-8 passes through).
-std::string json_string(const std::string& text);
-
-/// A flat JSON object of numbers, keys in the given order, formatted as
-/// to_json_line formats them (non-finite numbers as null).
-std::string to_json_object(const std::vector<std::pair<std::string, double>>& values);
 
 /// Accumulates lines and keeps `path` up to date.
 class StatsWriter {

@@ -1,4 +1,4 @@
-// stats.jsonl (io/stats.h): the exact line, non-finite values and escaped
+// stats.jsonl (job/frame_stats.h): the exact line, non-finite values and escaped
 // keys, and the writer's rewrite and append.
 #include <filesystem>
 #include <limits>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "fluidtex/io/stats.h"
+#include "fluidtex/job/frame_stats.h"
 #include "fluidtex/util/error.h"
 #include "test_util.h"
 
