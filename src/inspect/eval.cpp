@@ -25,6 +25,7 @@
 #include "fluidtex/geometry/surface.h"
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/sequence.h"
+#include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/texture/synthesis.h"

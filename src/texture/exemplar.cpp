@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fluidtex/io/image_io.h"
 #include "fluidtex/util/error.h"
 
 namespace fluidtex {

@@ -9,6 +9,7 @@
 
 #include "fluidtex/inspect/overlays.h"
 #include "fluidtex/inspect/render.h"
+#include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"

@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "fluidtex/geometry/mesh.h"
+#include "fluidtex/geometry/uv_mesh.h"
 #include "fluidtex/inspect/render.h"
 #include "fluidtex/inspect/verdict.h"
 #include "fluidtex/io/image_io.h"
-#include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/tracking/options.h"

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "fluidtex/geometry/image.h"
 #include "fluidtex/geometry/mesh.h"
-#include "fluidtex/io/image_io.h"
-#include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/geometry/uv_mesh.h"
 #include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {

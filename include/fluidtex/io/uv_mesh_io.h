@@ -1,7 +1,6 @@
 /// @file uv_mesh_io.h
-/// @brief The per-frame UV mesh: the frame's surface with atlas coordinates,
-/// written (OBJ, PLY) and read back (for eval, compare and preview).
-/// Seams carry per-corner UVs: a vertex on a chart border has one uv per chart.
+/// @brief The per-frame UV mesh (geometry/uv_mesh.h) written (OBJ, PLY)
+/// and read back (for eval, compare and preview).
 ///
 /// Both writers pass the frame through unchanged (non-manifold and
 /// unreferenced vertices included), write numbers as 32-bit floats in the
@@ -16,18 +15,9 @@
 #include <utility>
 #include <vector>
 
-#include "fluidtex/geometry/mesh.h"
+#include "fluidtex/geometry/uv_mesh.h"
 
 namespace fluidtex {
-
-struct UVMesh {
-  std::vector<Vec3> positions;
-  std::vector<Vec3> normals;      ///< per vertex (same indexing as positions)
-  std::vector<Tri> triangles;     ///< into positions
-  std::vector<Vec2> uvs;          ///< atlas coordinates in [0,1]², v up (OBJ convention)
-  std::vector<Tri> uv_triangles;  ///< per corner, into uvs; same count as triangles
-  std::vector<Vec3> velocities;   ///< per vertex, scene units per second (the input's); empty: none
-};
 
 /// The images an OBJ's material names: the colour atlas (map_Kd), and when
 /// written a height atlas (disp, and bump with `-bm bump_height`, the scene

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "fluidtex/io/image_io.h"
+#include "fluidtex/geometry/image.h"
 
 namespace fluidtex {
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "fluidtex/geometry/surface.h"
-#include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/geometry/uv_mesh.h"
 #include "fluidtex/util/options.h"
 
 namespace fluidtex {

@@ -6,8 +6,8 @@
 #include <array>
 #include <string>
 
+#include "fluidtex/geometry/image.h"
 #include "fluidtex/geometry/mesh.h"
-#include "fluidtex/io/image_io.h"
 
 namespace fluidtex {
 

@@ -11,7 +11,7 @@
 /// builds from the mesh's uvs.
 #pragma once
 
-#include "fluidtex/io/image_io.h"
+#include "fluidtex/geometry/image.h"
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/texture/synthesis.h"
 
