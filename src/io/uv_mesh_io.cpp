@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -27,6 +26,7 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include "fluidtex/io/mesh_io.h"
+#include "fluidtex/io/ply_writer.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/strings.h"
@@ -80,12 +80,6 @@ void append_int(std::string& out, long long v) {
   char buf[24];
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
   out.append(buf, r.ptr);
-}
-
-void write_bytes(const std::string& target, const fs::path& tmp, const std::string& bytes) {
-  std::ofstream out(tmp, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  close_written(out, target);
 }
 
 /// The map_Kd reference: as given when relative (taken relative to the OBJ's
@@ -178,13 +172,7 @@ std::string obj_text(const UVMesh& mesh, const std::string& mtl_file) {
   return t;
 }
 
-void put_u32_le(std::string& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xffu);
-}
-
-void put_f32_le(std::string& out, double v) { put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(v))); }
-
-std::string ply_bytes(const UVMesh& mesh) {
+PlyWriter ply_writer(const UVMesh& mesh) {
   // One output vertex per distinct (vertex, uv index) pair used by a corner,
   // sorted by vertex then uv index; vertices no triangle uses are kept with
   // uv (0, 0) (uv index -1) so the positions pass through unchanged.
@@ -206,34 +194,30 @@ std::string ply_bytes(const UVMesh& mesh) {
     return static_cast<std::uint32_t>(std::lower_bound(keys.begin(), keys.end(), std::make_pair(v, uv)) - keys.begin());
   };
 
-  std::string out = "ply\nformat binary_little_endian 1.0\ncomment fluidtex UV mesh\n";
-  out += "element vertex " + std::to_string(keys.size()) + "\n";
   const bool has_velocity = !mesh.velocities.empty();
-  for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) out += std::string("property float ") + p + "\n";
+  std::vector<PlyWriter::Property> properties;
+  for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) properties.push_back({p});
   if (has_velocity) {
-    for (const char* p : {"vx", "vy", "vz"}) out += std::string("property float ") + p + "\n";
+    for (const char* p : {"vx", "vy", "vz"}) properties.push_back({p});
   }
-  out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
-  out += "property list uchar int vertex_indices\nend_header\n";
-  out.reserve(out.size() + keys.size() * 32 + mesh.triangles.size() * 13);
-
+  PlyWriter ply({"fluidtex UV mesh"}, properties, keys.size(), mesh.triangles.size());
   for (const auto& [v, uvi] : keys) {
     const Vec3& p = mesh.positions[v];
     const Vec3 n = mesh.normals.empty() ? Vec3::Zero().eval() : mesh.normals[v];
     const Vec2 uv = uvi >= 0 ? mesh.uvs[uvi] : Vec2::Zero().eval();
-    for (int i = 0; i < 3; ++i) put_f32_le(out, p[i]);
-    for (int i = 0; i < 3; ++i) put_f32_le(out, n[i]);
-    put_f32_le(out, uv.x());
-    put_f32_le(out, uv.y());
+    for (int i = 0; i < 3; ++i) ply.put(p[i]);
+    for (int i = 0; i < 3; ++i) ply.put(n[i]);
+    ply.put(uv.x());
+    ply.put(uv.y());
     if (has_velocity) {
-      for (int i = 0; i < 3; ++i) put_f32_le(out, mesh.velocities[v][i]);
+      for (int i = 0; i < 3; ++i) ply.put(mesh.velocities[v][i]);
     }
   }
   for (size_t f = 0; f < mesh.triangles.size(); ++f) {
-    out += static_cast<char>(3);
-    for (int k = 0; k < 3; ++k) put_u32_le(out, index_of(mesh.triangles[f][k], has_uv ? mesh.uv_triangles[f][k] : -1));
+    const auto corner = [&](int k) { return index_of(mesh.triangles[f][k], has_uv ? mesh.uv_triangles[f][k] : -1); };
+    ply.put_triangle(corner(0), corner(1), corner(2));
   }
-  return out;
+  return ply;
 }
 
 }  // namespace
@@ -246,16 +230,15 @@ void write_uv_mesh_obj(const std::string& path, const UVMesh& mesh, const Materi
     fs::path mtl_path = fs::path(path).replace_extension(".mtl");
     mtl_file = mtl_path.filename().string();
     const std::string text = mtl_text(path, maps);
-    write_atomically(mtl_path, [&](const fs::path& tmp) { write_bytes(mtl_path.string(), tmp, text); });
+    write_text_atomically(mtl_path, text);
   }
   const std::string text = obj_text(mesh, mtl_file);
-  write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, text); });
+  write_text_atomically(path, text);
 }
 
 void write_uv_mesh_ply(const std::string& path, const UVMesh& mesh) {
   validate(path, mesh);
-  const std::string bytes = ply_bytes(mesh);
-  write_atomically(path, [&](const fs::path& tmp) { write_bytes(path, tmp, bytes); });
+  ply_writer(mesh).write(path);
 }
 
 void write_uv_mesh(const std::string& path, const UVMesh& mesh, const MaterialMaps& maps) {

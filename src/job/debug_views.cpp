@@ -1,8 +1,8 @@
 #include "fluidtex/job/debug_views.h"
 
-#include <fstream>
+#include <cstdint>
 
-#include "fluidtex/util/atomic_file.h"
+#include "fluidtex/io/ply_writer.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/random.h"
 
@@ -12,30 +12,22 @@ namespace {
 
 using Rgb = std::array<unsigned char, 3>;
 
-/// Binary little-endian PLY with float xyz, uchar rgb and optional faces.
+/// Float xyz, uchar rgb and optional faces.
 void write_colored_ply(const std::string& path, const std::vector<Vec3>& positions, const std::vector<Rgb>& colors,
                        const std::vector<Tri>& triangles) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out << "ply\nformat binary_little_endian 1.0\ncomment fluidtex debug view\n"
-        << "element vertex " << positions.size() << "\n"
-        << "property float x\nproperty float y\nproperty float z\n"
-        << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-        << "element face " << triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-      const float p[3] = {static_cast<float>(positions[i].x()), static_cast<float>(positions[i].y()),
-                          static_cast<float>(positions[i].z())};
-      out.write(reinterpret_cast<const char*>(p), sizeof p);
-      out.write(reinterpret_cast<const char*>(colors[i].data()), 3);
-    }
-    for (const Tri& t : triangles) {
-      const unsigned char n = 3;
-      out.write(reinterpret_cast<const char*>(&n), 1);
-      const std::int32_t idx[3] = {t[0], t[1], t[2]};
-      out.write(reinterpret_cast<const char*>(idx), sizeof idx);
-    }
-    close_written(out, path);
-  });
+  using T = PlyWriter::Type;
+  PlyWriter ply({"fluidtex debug view"},
+                {{"x"}, {"y"}, {"z"}, {"red", T::UChar}, {"green", T::UChar}, {"blue", T::UChar}}, positions.size(),
+                triangles.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    for (int k = 0; k < 3; ++k) ply.put(positions[i][k]);
+    for (const unsigned char c : colors[i]) ply.put(std::uint8_t{c});
+  }
+  for (const Tri& t : triangles) {
+    ply.put_triangle(static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]),
+                     static_cast<std::uint32_t>(t[2]));
+  }
+  ply.write(path);
 }
 
 }  // namespace

@@ -7,12 +7,11 @@
 #include "fluidtex/scenes/scenes.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <complex>
+#include <filesystem>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <functional>
 #include <numbers>
 #include <span>
@@ -21,8 +20,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "fluidtex/io/ply_writer.h"
 #include "fluidtex/io/vdb_io.h"
-#include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/options.h"
 #include "scene_drop.h"
@@ -457,15 +456,6 @@ void validate(const std::string& scene, const SceneOptions& options) {
   if (options.staggered && options.format != "vdb") throw InputError("", "--staggered needs --format vdb");
 }
 
-// Little-endian binary appends.
-template <typename T>
-void append_le(std::string& out, T value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  if constexpr (std::endian::native == std::endian::big) std::reverse(bytes, bytes + sizeof(T));
-  out.append(bytes, sizeof(T));
-}
-
 }  // namespace
 
 std::vector<std::string> scene_names() { return {std::begin(kSceneNames), std::end(kSceneNames)}; }
@@ -489,22 +479,18 @@ void write_frame_ply(const std::string& path, const FrameMesh& mesh, std::option
     throw InternalError(path + ": mesh has " + std::to_string(mesh.velocities.size()) + " velocities for " +
                         std::to_string(mesh.positions.size()) + " vertices");
   }
-  std::string data = "ply\nformat binary_little_endian 1.0\ncomment fluidtex example scene\n";
-  if (fps) data += "comment fps=" + format_number(*fps) + "\n";
-  data += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
-  for (const char* name : {"x", "y", "z", "vx", "vy", "vz"}) data += std::string("property float ") + name + "\n";
-  data += "element face " + std::to_string(mesh.triangles.size()) + "\n";
-  data += "property list uchar int vertex_indices\nend_header\n";
-  data.reserve(data.size() + mesh.positions.size() * 24 + mesh.triangles.size() * 13);
+  std::vector<std::string> comments = {"fluidtex example scene"};
+  if (fps) comments.push_back("fps=" + format_number(*fps));
+  PlyWriter ply(comments, {{"x"}, {"y"}, {"z"}, {"vx"}, {"vy"}, {"vz"}}, mesh.positions.size(), mesh.triangles.size());
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    for (int k = 0; k < 3; ++k) append_le(data, static_cast<float>(mesh.positions[v][k]));
-    for (int k = 0; k < 3; ++k) append_le(data, static_cast<float>(mesh.velocities[v][k]));
+    for (int k = 0; k < 3; ++k) ply.put(mesh.positions[v][k]);
+    for (int k = 0; k < 3; ++k) ply.put(mesh.velocities[v][k]);
   }
   for (const Tri& t : mesh.triangles) {
-    append_le(data, static_cast<std::uint8_t>(3));
-    for (int k = 0; k < 3; ++k) append_le(data, static_cast<std::int32_t>(t[k]));
+    ply.put_triangle(static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]),
+                     static_cast<std::uint32_t>(t[2]));
   }
-  write_text_atomically(path, data);
+  ply.write(path);
 }
 
 std::string write_scene(const std::string& scene, const std::string& dir, const SceneOptions& options) {
