@@ -29,7 +29,7 @@
 #include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/texture/synthesis.h"
-#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/tracking/surface_change.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"

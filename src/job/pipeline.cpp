@@ -17,7 +17,7 @@
 #include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"
-#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"

@@ -11,6 +11,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/tracking/advection.h"
+#include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/util/check.h"
 #include "fluidtex/util/error.h"

@@ -12,6 +12,8 @@
 
 #include "fluidtex/geometry/point_index.h"
 #include "fluidtex/tracking/patch_builder.h"
+#include "fluidtex/tracking/patch_coverage.h"
+#include "fluidtex/tracking/patch_distortion.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
 #include "fluidtex/tracking/relaxation.h"

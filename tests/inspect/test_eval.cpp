@@ -11,7 +11,7 @@
 #include "fluidtex/inspect/eval.h"
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/scenes/exemplar_gen.h"
-#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/util/error.h"
 #include "mesh_fixtures.h"
 #include "synthesis_fixtures.h"

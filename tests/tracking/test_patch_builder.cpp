@@ -10,7 +10,7 @@
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/patch.h"
 #include "fluidtex/tracking/patch_builder.h"
-#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/patch_distortion.h"
 #include "mesh_fixtures.h"
 #include "test_util.h"
 

@@ -7,6 +7,7 @@
 
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/patch_builder.h"
+#include "fluidtex/tracking/patch_distortion.h"
 #include "fluidtex/tracking/relaxation.h"
 #include "fluidtex/tracking/tracker.h"
 #include "mesh_fixtures.h"

@@ -18,6 +18,8 @@
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/tracking/advection.h"
 #include "fluidtex/tracking/patch_builder.h"
+#include "fluidtex/tracking/patch_coverage.h"
+#include "fluidtex/tracking/patch_distortion.h"
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/random.h"

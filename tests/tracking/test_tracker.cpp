@@ -11,7 +11,7 @@
 #include "fluidtex/tracking/fading.h"
 #include "fluidtex/tracking/patch.h"
 #include "fluidtex/tracking/patch_builder.h"
-#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/error.h"
 #include "mesh_fixtures.h"

@@ -1,6 +1,7 @@
 /// @file advection.h
-/// @brief Patch advection and projection (Gagnon et al. 2019, Sec. 5.2),
-/// distortion estimation (Sec. 5.3) and vertex weights (Sec. 6.1–6.2).
+/// @brief Patch advection and projection (Gagnon et al. 2019, Sec. 5.2).
+/// The distortion a patch then shows is patch_distortion.h's, its vertex
+/// weights weights.h's.
 ///
 /// Every vertex (and the disk centre) moves by the surface velocity at its
 /// projection on the previous frame times dt, then snaps to the closest point
@@ -10,6 +11,7 @@
 
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
+#include "fluidtex/tracking/weights.h"
 #include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {
@@ -118,65 +120,5 @@ double projection_tolerance(const SurfacePoint& from, const Vec3& normal, const 
 /// `next`.
 Vec3 advect_target(const SurfacePoint& from, const SurfaceIndex& previous, const SurfaceIndex& next, double dt,
                    Advection scheme);
-
-/// Distortion of a patch on its current surface: per-triangle D_T (Sorkine),
-/// per-vertex Q_V (mean Q_T of the incident triangles, weighted by their rest
-/// area, a departure that keeps sliver triangles of reconstructed surfaces
-/// from deciding alone) stored in
-/// `patch.quality`, `patch.max_distortion` set. Returns the rule that found
-/// the patch too distorted, None when it is fine.
-///
-/// DistortionTest::Patch (the default): the disk shows too little
-/// undistorted texture, Σ seen_weight·Q_T < Q_vmin · patch.disk_weight over
-/// its triangles, where flipped triangles, triangles across two surface
-/// components and triangles lost in advection count Q_T = 0; the largest of
-/// those losses names the cause (VerticesLost, Split, Flipped or Quality).
-///
-/// DistortionTest::Vertex: a triangle whose corners lie on different
-/// connected components of the surface (Split), a triangle flipped against
-/// the surface normal (Flipped), or a vertex with Q_V < Q_vmin (Quality), in
-/// that order. Departure from the
-/// paper, which tests every vertex: only vertices and triangles inside the
-/// disk (|uv| < d, where K_S > 0) are tested, since the selection margin out
-/// to (1 + β)d carries no weight and its distortion cannot be seen; on real
-/// simulations this margin collapses on ridges and creases and would retire
-/// most patches within a few frames.
-RetireCause update_distortion(Patch& patch, const SurfaceIndex& surface, const TrackingOptions& options);
-
-/// Weight of the coverage tail (see update_weights).
-constexpr double kCoverageTail = 0.01;
-
-/// The coverage tail at |V_uv − p_uv| = r (see update_weights):
-/// kCoverageTail·max(0, 1 − r/((1 + β)d)).
-double tail_weight(double r, const TrackingOptions& options);
-
-/// The radial term of K_S at |V_uv − p_uv| = r (see update_weights): 1 − r/d
-/// inside the disk plus the coverage tail out to (1 + β)d.
-double radial_weight(double r, const TrackingOptions& options);
-
-/// w_V = K_S(V)·K_t with Eq. 4, K_S = max(0, 1 − |V_uv − p_uv|/d_uv)·s·d_V·Q_V,
-/// d_uv = d (uv is metric). Fills `patch.weight`.
-///
-/// Departure from the paper: a faint tail, kCoverageTail·max(0, 1 − r/((1+β)d)),
-/// is added to the radial term. A Poisson distribution is maximal only up to
-/// its candidate spacing, so slivers of surface slightly farther than d from
-/// every disk exist; Eq. 4 alone gives them Σw = 0 (a hole showing the mean
-/// colour). With the tail, they show the texture of the patches around them.
-/// For the same reason Q_V enters K_S floored at kCoverageTail: where every
-/// patch is distorted (Q_V = 0, already fading out and being replaced), the
-/// surface shows their texture rather than a flat hole. Synthesis blends the
-/// tail (w_V − core_weight) only where the core weights leave a point
-/// (nearly) bare (SynthesisOptions::radius), so elsewhere a texel blends
-/// exactly the paper's weights. d_V = 0 on the patch border zeroes the core,
-/// not the tail: a patch the plane test cuts down to a few border triangles
-/// (a droplet smaller than the disk) still covers its surface.
-void update_weights(Patch& patch, const TrackingOptions& options);
-
-/// The paper's w_V = K_S(V)·K_t at vertex v of `patch` (Eq. 4 and 2) without
-/// the coverage tail or the Q_V floor of update_weights: the weight a patch
-/// blends with where it covers a point with its disk. `radius` is d, `uv_scale` s.
-/// Never above patch.weight[v]; the difference is the vertex's coverage tail,
-/// which synthesis blends only where the disks leave the surface (nearly) bare.
-float core_weight(const Patch& patch, std::size_t v, double radius, double uv_scale);
 
 }  // namespace fluidtex

@@ -30,7 +30,7 @@
 #include "fluidtex/tracking/options.h"
 #include "fluidtex/tracking/patch.h"
 #include "fluidtex/tracking/patch_counts.h"
-#include "fluidtex/tracking/patch_locator.h"
+#include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/tracking/surface_change.h"
 #include "fluidtex/util/timing.h"
 
