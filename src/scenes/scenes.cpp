@@ -9,9 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <filesystem>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <numbers>
 #include <span>
