@@ -600,7 +600,7 @@ struct ChangeHistory {
     for (const Patch& p : tracker.patches()) now.emplace(p.id, p.centre.point.position);
     if (first_density == 0.0 && next->area() > 0.0) first_density = static_cast<double>(now.size()) / next->area();
     if (surface && first_density > 0.0) {
-      const TrackingOptions& o = tracker.settings().method;
+      const TrackingOptions& o = tracker.settings().tracking;
       const int steps = next_frame - frame;
       const SurfaceChange change = measure_surface_change(*surface, *next, steps / fps, steps, o.d(), o.plane_angle);
       std::vector<SurfacePoint> at;
@@ -633,7 +633,7 @@ struct ChangeHistory {
 /// per texel, re-synthesised with the count layer) and distortion of the
 /// frame's patches.
 void patch_metrics(const Tracker& tracker, const JobOptions& job, const Exemplar& exemplar, Row& row) {
-  const TrackingOptions& o = tracker.settings().method;
+  const TrackingOptions& o = tracker.settings().tracking;
   const std::vector<Patch>& patches = tracker.patches();
   const PatchCoverage coverage(patches, o.mpt());
   row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage, tracker.coverage_spacing()));
@@ -1004,7 +1004,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     const std::string state = state_path(options.run_dir, frame);
     if (std::filesystem::exists(state)) {
       const Tracker tracker = Tracker::load(state, mesh);
-      if (!resolved) resolved = tracker.settings().method;
+      if (!resolved) resolved = tracker.settings().tracking;
       history.add(frame, tracker, row);
       change.add(frame, tracker, sequence.fps(), row);
       patch_metrics(tracker, job, exemplar, row);

@@ -42,7 +42,7 @@ Exemplar load_exemplar(const std::string& path, bool displacement) {
 SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
   SynthesisOptions synth;
   synth.blend = so.blend;
-  synth.method = so.method;
+  synth.scheme = so.scheme;
   synth.weight_cutoff = so.weight_cutoff;
   synth.uv_scale = resolved.uv_scale;
   synth.radius = resolved.d();

@@ -78,7 +78,7 @@ class PatchTexturing final : public Texturing {
     for (const auto& [stage, secs] : step.seconds) fs.seconds.emplace_back(stage, secs);
     const double area = tracker_.surface()->area();
     if (first) {
-      const TrackingOptions& o = tracker_.settings().method;
+      const TrackingOptions& o = tracker_.settings().tracking;
       reporter.verbose("radius d " + std::to_string(o.d()) + ", thickness cs " + std::to_string(o.cs()) +
                        ", max projection mpt " + std::to_string(o.mpt()));
       if (!resumed_) {
@@ -117,7 +117,7 @@ class PatchTexturing final : public Texturing {
     if (options_.output.debug_views) write_debug_views(work);
     work.surface = tracker_.shared_surface();
     work.patches = tracker_.patches();
-    work.resolved = tracker_.settings().method;
+    work.resolved = tracker_.settings().tracking;
     work.coverage_spacing = tracker_.coverage_spacing();
     if (write_state_) work.state = tracker_.unpacked_state();
   }
@@ -190,7 +190,7 @@ class PatchTexturing final : public Texturing {
     std::snprintf(text, sizeof text, "%.1f", growth);
     reporter.warn("frame " + std::to_string(frame) + ": the liquid's surface is " + text + " times frame " +
                   std::to_string(first_frame_) + "'s, whose size set the patch radius (--radius auto: d = " +
-                  format_number(tracker_.settings().method.d()) +
+                  format_number(tracker_.settings().tracking.d()) +
                   "), so the patches multiply with it: for liquid that starts small, give --radius");
   }
 
@@ -247,7 +247,7 @@ class FlowMapTexturing final : public Texturing {
   static FlowMapSettings settings(const JobOptions& options) {
     FlowMapSettings fm;
     fm.flowmap = options.flowmap;
-    fm.method = options.tracking;
+    fm.tracking = options.tracking;
     fm.seed = options.seed;
     return fm;
   }
@@ -301,7 +301,7 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const
     reporter.info("nothing to resume in " + options.output.dir + ": starting from the first frame");
   }
   TrackerSettings settings;
-  settings.method = options.tracking;
+  settings.tracking = options.tracking;
   settings.advection = options.advection;
   settings.motion = options.patch_motion;
   settings.seed = options.seed;

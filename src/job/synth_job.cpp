@@ -162,7 +162,7 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
       tracker.emplace(Tracker::load(state_path(request.dir, frame), work.mesh));
     }
     work.stats.patches = count_states(tracker->patches());
-    synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().method, exemplar, options, frame,
+    synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().tracking, exemplar, options, frame,
                      work.stats);
   };
   auto write = [&](SynthWork& work) {

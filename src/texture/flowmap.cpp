@@ -88,8 +88,8 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
   // The index refers to *mesh; the deleter keeps the mesh alive with it.
   std::shared_ptr<const SurfaceIndex> surface(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
   if (steps_ == 0) {
-    settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
-    tile_size_ = settings_.method.exemplar_tile_size();
+    settings_.tracking = settings_.tracking.resolved(bounding_box(*mesh).diagonal());
+    tile_size_ = settings_.tracking.exemplar_tile_size();
     if (!(tile_size_ > 0.0) || !std::isfinite(tile_size_)) {
       throw InputError("", "flowmap: the first frame is degenerate (zero bounding box): no texture scale");
     }
@@ -134,7 +134,7 @@ FlowMapFrame FlowMapAdvector::frame() const {
     f.anchor[k] = Vec2(uniform(settings_.seed, Stream::FlowMapAnchor, phase, cycle, 0),
                        uniform(settings_.seed, Stream::FlowMapAnchor, phase, cycle, 1));
   }
-  f.uv_scale = settings_.method.uv_scale;
+  f.uv_scale = settings_.tracking.uv_scale;
   return f;
 }
 

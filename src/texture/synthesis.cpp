@@ -739,7 +739,7 @@ TriangleBins Synthesizer::bin_triangles() const {
   return bins;
 }
 
-/// The reference (SynthesisMethod::Exact): every texel of the tile projected
+/// The reference (SynthesisScheme::Exact): every texel of the tile projected
 /// through the patch triangles near it.
 void Synthesizer::accumulate_located(TileSums& tile, Tally& tally) const {
   std::vector<PatchHit> hits;
@@ -780,7 +780,7 @@ void Synthesizer::add_hits(const std::vector<PatchHit>& hits, const Vec3& p, con
   ++tally.margin;
 }
 
-/// Raster (SynthesisMethod::Raster): the tile's binned jobs (the triangles
+/// Raster (SynthesisScheme::Raster): the tile's binned jobs (the triangles
 /// with a core weight) in order. A projected hit waits until the patch's
 /// last job: as in locate(), the patch's nearest triangle gives a texel its
 /// uv and weight. A raster hit of the same patch, added at once, takes
@@ -987,7 +987,7 @@ SynthesisResult Synthesizer::run() {
   const std::size_t tile_count = tiles_.count();
   const std::vector<char> tile_live = live_tiles();
   coverage_ = std::make_unique<PatchCoverage>(patches_, tolerance_);
-  if (options_.method == SynthesisMethod::Exact) {
+  if (options_.scheme == SynthesisScheme::Exact) {
     locator_ = std::make_unique<PatchLocator>(patches_, tolerance_);
   } else {
     bins_ = bin_triangles();

@@ -84,7 +84,7 @@ PatchCounts count_states(const std::vector<Patch>& patches) {
   return c;
 }
 
-Tracker::Tracker(TrackerSettings settings) : settings_(std::move(settings)) { settings_.method.validate(); }
+Tracker::Tracker(TrackerSettings settings) : settings_(std::move(settings)) { settings_.tracking.validate(); }
 Tracker::~Tracker() = default;
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
@@ -109,8 +109,8 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     // alive as long as anyone holds the surface.
     surface.reset(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
     if (!started_) {
-      settings_.method = settings_.method.resolved(bounding_box(*mesh).diagonal());
-      check_disk_budget(*surface, settings_.method);
+      settings_.tracking = settings_.tracking.resolved(bounding_box(*mesh).diagonal());
+      check_disk_budget(*surface, settings_.tracking);
     }
   }
   std::optional<SurfaceChange> change;
@@ -118,7 +118,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     const std::vector<AdvectResult> advected = advect(*surface, dt, report);  // 1
     retire_distorted(*surface, advected, frame, report);                      // 2
     change = measure_change(*surface, dt, frame, report);
-    if (settings_.method.sink == Sink::Fade) track_sinking(*change, frame);
+    if (settings_.tracking.sink == Sink::Fade) track_sinking(*change, frame);
   }
   // Coverage is tested at points about a patch edge apart (the resolution
   // of the patch meshes), so that a face covered at its centroid cannot hide
@@ -166,7 +166,7 @@ std::vector<AdvectResult> Tracker::advect(const SurfaceIndex& next, double dt, S
   std::vector<AdvectResult> advected(patches_.size(), AdvectResult::Kept);
   parallel_each(patches_.size(), [&](std::size_t i) {
     advected[i] =
-        advect_patch(patches_[i], *surface_, next, dt, settings_.method, settings_.advection, settings_.motion);
+        advect_patch(patches_[i], *surface_, next, dt, settings_.tracking, settings_.advection, settings_.motion);
   });
   return advected;
 }
@@ -208,7 +208,7 @@ void drop_lost_flag_distorted(std::vector<Patch>& patches, const std::vector<Adv
 void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<AdvectResult>& advected, int frame,
                                StepReport& report) {
   const ScopedStage stage(report.seconds, "distortion");
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   std::vector<RetireCause> distorted(patches_.size(), RetireCause::None);
   std::vector<char> relaxed(patches_.size(), 0);
   std::vector<RetireCause> recut_cause(patches_.size(), RetireCause::None);
@@ -251,7 +251,7 @@ void Tracker::retire_distorted(const SurfaceIndex& surface, const std::vector<Ad
 }
 
 std::vector<SurfaceSample> Tracker::retire_too_close(const PoissonParams& params, int frame, StepReport& report) {
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   // Fading-out disks are ignored; patches are in id order, so of two disks
   // too close the younger one fades out, once it has been too close for
   // more than kill-frames frames in a row.
@@ -390,7 +390,7 @@ class GapSearch {
 std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, const FaceSamples& samples, int frame,
                                                    StepReport& report, std::vector<int>& bare_faces) {
   const ScopedStage stage(report.seconds, "poisson");
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   const PoissonParams params = poisson_params(o);
   const std::vector<SurfaceSample> remaining = retire_too_close(params, frame, report);
   GapSearch gaps(surface, samples, surface_candidates(surface, o.d(), settings_.seed, settings_.candidates_per_disk));
@@ -438,7 +438,7 @@ std::vector<SurfaceSample> Tracker::poisson_update(const SurfaceIndex& surface, 
 std::vector<BBox> Tracker::regrow_over_gaps(const SurfaceIndex& surface, const std::vector<SurfaceSample>& candidates,
                                             const std::vector<char>& uncovered, const std::vector<char>& live_mask,
                                             int frame, StepReport& report) {
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   const PoissonParams params = poisson_params(o);
   std::vector<std::size_t> owner;  // patch index per centre in `centres`
   std::vector<Vec3> centres;
@@ -496,7 +496,7 @@ void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<Surface
 
 void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
                             StepReport& report) {
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   // Built in parallel; ids are fixed before the loop.
   std::vector<std::optional<Patch>> built(fresh.size());
   parallel_each(fresh.size(), [&](std::size_t i) {
@@ -521,7 +521,7 @@ void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<Surfa
 void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& samples, std::vector<int> faces,
                                 int frame, StepReport& report) {
   const ScopedStage stage(report.seconds, "refill");
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   // Faces a refill patch was already centred on: one still bare after that
   // is not covered by a patch of its own, and as a candidate it would keep
   // rejecting its neighbours' candidates. Blender-obstacle's torn sheet
@@ -563,7 +563,7 @@ void Tracker::refill_bare_faces(const SurfaceIndex& surface, const FaceSamples& 
 
 std::vector<int> Tracker::fade(const SurfaceIndex& surface, const SurfaceChange* change, StepReport& report) {
   const ScopedStage stage(report.seconds, "fading");
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   std::vector<SurfaceSample> all;
   all.reserve(patches_.size());
   for (const Patch& p : patches_) all.push_back(p.centre);
@@ -608,7 +608,7 @@ std::vector<int> Tracker::fade(const SurfaceIndex& surface, const SurfaceChange*
 }
 
 void Tracker::track_sinking(const SurfaceChange& change, int frame) {
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   // A sum of the rates with weights decaying by 1 − 1/kill-frames a frame
   // (about the last kill-frames frames): a step of n frames decays it n
   // times and adds its rate, per frame, n times.
@@ -623,7 +623,7 @@ void Tracker::track_sinking(const SurfaceChange& change, int frame) {
 
 SurfaceChange Tracker::measure_change(const SurfaceIndex& surface, double dt, int frame, StepReport& report) const {
   const ScopedStage stage(report.seconds, "change");
-  const TrackingOptions& o = settings_.method;
+  const TrackingOptions& o = settings_.tracking;
   return measure_surface_change(*surface_, surface, dt, std::max(1, frame - frame_), o.d(), o.plane_angle);
 }
 
@@ -637,7 +637,7 @@ void Tracker::tally_change(const SurfaceIndex& surface, const SurfaceChange& cha
 
 void Tracker::weigh(StepReport& report) {
   const ScopedStage stage(report.seconds, "weights");
-  parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], settings_.method); });
+  parallel_each(patches_.size(), [&](std::size_t i) { update_weights(patches_[i], settings_.tracking); });
 }
 
 }  // namespace fluidtex

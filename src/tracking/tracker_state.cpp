@@ -241,7 +241,7 @@ void get_option(Reader& r, E& v) {
 }
 
 void put_settings(Writer& w, const TrackerSettings& s) {
-  TrackingOptions::for_each_option(s.method, [&](const OptionInfo&, const auto& field) { put_option(w, field); });
+  TrackingOptions::for_each_option(s.tracking, [&](const OptionInfo&, const auto& field) { put_option(w, field); });
   w.put(static_cast<std::uint8_t>(s.advection)), w.put(s.seed), w.put(s.candidates_per_disk);
   w.put(s.min_component_area);
   w.put(static_cast<std::uint8_t>(s.coverage_aware));
@@ -250,7 +250,7 @@ void put_settings(Writer& w, const TrackerSettings& s) {
 }
 
 void get_settings(Reader& r, TrackerSettings& s) {
-  TrackingOptions::for_each_option(s.method, [&](const OptionInfo&, auto& field) { get_option(r, field); });
+  TrackingOptions::for_each_option(s.tracking, [&](const OptionInfo&, auto& field) { get_option(r, field); });
   get_option(r, s.advection);
   r.get(s.seed), r.get(s.candidates_per_disk);
   r.get(s.min_component_area);

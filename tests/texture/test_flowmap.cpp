@@ -27,8 +27,8 @@ std::string q(const std::string& s) { return "'" + s + "'"; }
 FlowMapSettings settings(int period, double radius) {
   FlowMapSettings s;
   s.flowmap.period = period;
-  if (radius > 0.0) s.method.radius = radius;
-  s.method.selection_margin = 0.6;
+  if (radius > 0.0) s.tracking.radius = radius;
+  s.tracking.selection_margin = 0.6;
   return s;
 }
 

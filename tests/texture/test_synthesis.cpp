@@ -319,9 +319,9 @@ TEST(Synthesis, MarginIsTheLastResort) {
   so.tile_size = 1.0;
   so.radius = 0.3;
   so.projection_tolerance = 0.05;
-  for (const SynthesisMethod method : {SynthesisMethod::Raster, SynthesisMethod::Exact}) {
-    SCOPED_TRACE(method == SynthesisMethod::Raster ? "raster" : "exact");
-    so.method = method;
+  for (const SynthesisScheme scheme : {SynthesisScheme::Raster, SynthesisScheme::Exact}) {
+    SCOPED_TRACE(scheme == SynthesisScheme::Raster ? "raster" : "exact");
+    so.scheme = scheme;
     const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
     ASSERT_GT(r.chart_texels, 5000u);
     EXPECT_EQ(r.uncovered_texels, 0u);
@@ -400,7 +400,7 @@ TEST(Synthesis, RasterCoversAFaceInAChartOfItsOwn) {
   so.radius = 1e3;
   so.projection_tolerance = 0.05;
   const SynthesisResult raster = synthesize(surface, atlas, map, scene.patches, exemplar, so);
-  so.method = SynthesisMethod::Exact;
+  so.scheme = SynthesisScheme::Exact;
   const SynthesisResult exact = synthesize(surface, atlas, map, scene.patches, exemplar, so);
   EXPECT_EQ(exact.uncovered_texels, 0u);
   EXPECT_EQ(raster.uncovered_texels, 0u);
@@ -465,12 +465,12 @@ TEST(Synthesis, RasterAgreesWithExactAndCoversGeneratedScenes) {
     const Atlas atlas = build_atlas(*tracker.surface(), ao);
     const TexelMap map = build_texel_map(*tracker.surface(), atlas);
     SynthesisOptions opt;
-    const TrackingOptions& o = tracker.settings().method;
+    const TrackingOptions& o = tracker.settings().tracking;
     opt.tile_size = o.exemplar_tile_size();
     opt.radius = o.d();
     opt.projection_tolerance = o.mpt();
     const SynthesisResult raster = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
-    opt.method = SynthesisMethod::Exact;
+    opt.scheme = SynthesisScheme::Exact;
     const SynthesisResult exact = synthesize(*tracker.surface(), atlas, map, tracker.patches(), exemplar, opt);
     if (std::string(scene) == "merge") {
       // The merge outline grows faster than patches follow near the neck;

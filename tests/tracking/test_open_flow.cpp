@@ -34,7 +34,7 @@ FlowRun track_scene(const std::string& scene, int frames, const TrackingOptions&
   so.frames = frames;
   so.resolution = 48;
   TrackerSettings settings;
-  settings.method = method;
+  settings.tracking = method;
   Tracker tracker(settings);
   FlowRun run;
   for (int frame = 1; frame <= frames; ++frame) {
@@ -47,7 +47,7 @@ FlowRun track_scene(const std::string& scene, int frames, const TrackingOptions&
     for (const Vec3& b : step.births) run.births.emplace_back(frame, b);
     for (const Vec3& r : step.removals) run.removals.emplace_back(frame, r);
   }
-  run.d = tracker.settings().method.d();
+  run.d = tracker.settings().tracking.d();
   return run;
 }
 

@@ -37,7 +37,7 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   so.frames = 12;
   Tracker t(TrackerSettings{});
   for (int f = 1; f <= 8; ++f) t.step(std::make_shared<FrameMesh>(make_scene_frame("drop", f, so)), f, 1.0 / so.fps);
-  const double tol = t.settings().method.mpt();
+  const double tol = t.settings().tracking.mpt();
   // Every other patch only, so that some points are bare.
   std::vector<char> half(t.patches().size(), 0);
   for (std::size_t i = 0; i < half.size(); i += 2) half[i] = 1;
@@ -104,7 +104,7 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   for (std::size_t k = 0; k < samples.size(); ++k)
     ASSERT_EQ(uncovered[k] != 0, !coverage.covers(samples[k].point.position, samples[k].normal)) << "sample " << k;
   // Every face's samples at once: each bare face with its first bare sample.
-  const FaceSamples fs = face_samples(surface, 0.3 * t.settings().method.d());
+  const FaceSamples fs = face_samples(surface, 0.3 * t.settings().tracking.d());
   const BareFaces found_bare = bare_faces(surface, fs, coverage);
   std::size_t next = 0;
   for (std::size_t f = 0; f < surface.mesh().triangles.size(); ++f) {

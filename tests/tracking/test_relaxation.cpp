@@ -145,12 +145,12 @@ TEST(Relaxation, FewerPatchesAreRetiredAsStretchedInASustainedStretch) {
   };
   auto track = [&](int relax_frames) {
     TrackerSettings s;
-    s.method.radius = 0.1;
-    if (relax_frames >= 0) s.method.relax_frames = relax_frames;
-    s.method.distorted = Distorted::Fade;  // retirements are what this compares, not recuts
+    s.tracking.radius = 0.1;
+    if (relax_frames >= 0) s.tracking.relax_frames = relax_frames;
+    s.tracking.distorted = Distorted::Fade;  // retirements are what this compares, not recuts
     // The stretch alone: recutting the patches beside the strips the inflow
     // bares along the window's edges would undo their stretch too.
-    s.method.gap_fill = GapFill::Seed;
+    s.tracking.gap_fill = GapFill::Seed;
     s.seed = 3;
     Tracker t(s);
     Run run;

@@ -76,12 +76,12 @@ Survival track_sphere(const RigidMotion& m, bool paper_rules, int frames = 36) {
   TrackerSettings settings;
   if (paper_rules) {
     settings.motion = PatchMotion::Vertex;
-    settings.method.distortion_test = DistortionTest::Vertex;
-    settings.method.relax_frames = 0;
-    settings.method.kill_frames = 0;
-    settings.method.birth_margin = 0.0;
-    settings.method.projection_slack = 0.0;
-    settings.method.distorted = Distorted::Fade;
+    settings.tracking.distortion_test = DistortionTest::Vertex;
+    settings.tracking.relax_frames = 0;
+    settings.tracking.kill_frames = 0;
+    settings.tracking.birth_margin = 0.0;
+    settings.tracking.projection_slack = 0.0;
+    settings.tracking.distorted = Distorted::Fade;
   }
   Tracker tracker(settings);
   std::map<std::uint32_t, Vec3> first;
@@ -96,7 +96,7 @@ Survival track_sphere(const RigidMotion& m, bool paper_rules, int frames = 36) {
   }
   Survival s;
   s.births_per_live = births / (frames - 1);
-  const double t = (frames - 1) / fps, d = tracker.settings().method.d();
+  const double t = (frames - 1) / fps, d = tracker.settings().tracking.d();
   int kept = 0;
   for (const Patch& p : tracker.patches()) {
     const auto it = first.find(p.id);
@@ -176,7 +176,7 @@ std::optional<RealCut> track_real(const std::string& scene, const std::string& f
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int f = sequence.frames()[i];
     const StepReport r = tracker.step(std::make_shared<const FrameMesh>(sequence.load(i)), f, 1.0 / sequence.fps());
-    const double mpt = tracker.settings().method.mpt();
+    const double mpt = tracker.settings().tracking.mpt();
     for (const Patch& born : tracker.patches()) {
       if (i == 0 || born.created_frame != f) continue;
       for (const Patch& p : tracker.patches()) {
@@ -271,8 +271,8 @@ TEST(RealData, RiverPatchesStayAtTheirDensity) {
   const auto cut = track_real("river", "49-96");
   if (!cut) GTEST_SKIP() << "../shared/realdata is absent";
   TrackerSettings paper;
-  paper.method.gap_fill = GapFill::Seed;
-  paper.method.sink = Sink::Keep;
+  paper.tracking.gap_fill = GapFill::Seed;
+  paper.tracking.sink = Sink::Keep;
   const auto piled = track_real("river", "49-96", paper);
   EXPECT_LE(cut->crowding, 1.1);
   EXPECT_GT(piled->crowding, cut->crowding + 0.08);
@@ -380,10 +380,10 @@ struct CloseRun {
 CloseRun converging_plane(int kill_frames, int converge, int frames, double rate = 1.5,
                           Distorted distorted = Distorted::Recut, Sink sink = Sink::Keep) {
   TrackerSettings s;
-  s.method.radius = 0.12;
-  s.method.kill_frames = kill_frames;
-  s.method.distorted = distorted;
-  s.method.sink = sink;
+  s.tracking.radius = 0.12;
+  s.tracking.kill_frames = kill_frames;
+  s.tracking.distorted = distorted;
+  s.tracking.sink = sink;
   s.seed = 5;
   Tracker t(s);
   CloseRun run;
@@ -412,7 +412,7 @@ CloseRun converging_plane(int kill_frames, int converge, int frames, double rate
       ++run.too_close;
       if (!run.first) run.first = f;
     }
-    const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
+    const PatchCoverage coverage(t.patches(), t.settings().tracking.mpt());
     run.uncovered_max =
         std::max(run.uncovered_max, uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()));
     // The window's area is fixed: patches per area over the first frame's
@@ -450,12 +450,12 @@ struct StretchRun {
 };
 StretchRun stretching_sheet(double birth_margin, int stretch, BirthGap gap) {
   TrackerSettings s;
-  s.method.radius = 0.12;
-  s.method.birth_margin = birth_margin;
-  s.method.birth_gap = gap;
+  s.tracking.radius = 0.12;
+  s.tracking.birth_margin = birth_margin;
+  s.tracking.birth_gap = gap;
   // The birth rules alone: the sink rule would thin the crowd the ratchet
   // leaves as the sheet narrows back.
-  s.method.sink = Sink::Keep;
+  s.tracking.sink = Sink::Keep;
   s.seed = 5;
   Tracker t(s);
   StretchRun run;
@@ -472,7 +472,7 @@ StretchRun stretching_sheet(double birth_margin, int stretch, BirthGap gap) {
     }
     const StepReport r = t.step(std::make_shared<FrameMesh>(std::move(mesh)), f, dt);
     (f == 1 ? run.first : run.births) += r.created;
-    const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
+    const PatchCoverage coverage(t.patches(), t.settings().tracking.mpt());
     run.uncovered_max =
         std::max(run.uncovered_max, uncovered_area_fraction(*t.surface(), coverage, t.coverage_spacing()));
     width *= std::exp(k * dt);

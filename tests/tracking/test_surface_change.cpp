@@ -71,7 +71,7 @@ TEST(SurfaceChange, AStreamThroughAFixedWindowMakesSurfaceAtItsInflowAndDestroys
 TEST(SurfaceChange, TheTrackerCountsPatchesBirthsAndRemovalsWhereTheSurfaceIsMadeAndDestroyed) {
   auto flow = [](const Vec3&) { return Vec3(1.5, 0.0, 0.0); };
   TrackerSettings settings;
-  settings.method.radius = kRadius;
+  settings.tracking.radius = kRadius;
   Tracker tracker(settings);
   const StepReport first =
       tracker.step(std::make_shared<const FrameMesh>(test::flat_grid(30, 1.0, 0.0, 0.0, 0.0, flow)), 1, kDt);

@@ -29,8 +29,8 @@ std::shared_ptr<FrameMesh> rotating_grid(double omega) {
 
 TrackerSettings small_settings() {
   TrackerSettings s;
-  s.method.radius = 0.12;
-  s.method.fade_frames = 8;
+  s.tracking.radius = 0.12;
+  s.tracking.fade_frames = 8;
   s.seed = 5;
   return s;
 }
@@ -59,10 +59,10 @@ TEST(Tracker, ConstantVelocityTranslatesPatchesExactly) {
     return std::make_shared<FrameMesh>(test::flat_grid(30, 3.0, 0.0, -1.5, -1.5, [&](const Vec3&) { return v; }));
   };
   TrackerSettings s = small_settings();
-  s.method.radius = 0.3;
+  s.tracking.radius = 0.3;
   // The window is fixed: the strip the liquid bares at its upstream edge
   // would be covered by recutting the patches next to it.
-  s.method.gap_fill = GapFill::Seed;
+  s.tracking.gap_fill = GapFill::Seed;
   Tracker t(s);
   t.step(plane(), 1, 0.1);
   const Patch before = t.patches().front();
@@ -80,7 +80,7 @@ TEST(Tracker, ConstantVelocityTranslatesPatchesExactly) {
 TEST(Tracker, RotationGoesThroughTheStates) {
   // The paper's states: a distorted patch fades out rather than being recut.
   TrackerSettings s = small_settings();
-  s.method.distorted = Distorted::Fade;
+  s.tracking.distorted = Distorted::Fade;
   Tracker t(s);
   bool saw_fading_in = false, saw_close = false, saw_distorted = false;
   int removed = 0;
@@ -104,7 +104,7 @@ TEST(Tracker, RotationGoesThroughTheStates) {
 /// Share of the tracker's current surface that no patch covers, tested at
 /// points `spacing` apart.
 double uncovered_area(const Tracker& t, double spacing) {
-  const PatchCoverage coverage(t.patches(), t.settings().method.mpt());
+  const PatchCoverage coverage(t.patches(), t.settings().tracking.mpt());
   return uncovered_area_fraction(*t.surface(), coverage, spacing);
 }
 
@@ -118,7 +118,7 @@ TEST(Tracker, GeneratedScenesGoThroughTheStatesAndStayCovered) {
   for (const char* scene : {"rotation", "drop"}) {
     SCOPED_TRACE(scene);
     TrackerSettings s;
-    s.method.distorted = Distorted::Fade;
+    s.tracking.distorted = Distorted::Fade;
     Tracker t(s);
     int created_later = 0, removed = 0, fading_out = 0;
     for (int f = 1; f <= so.frames; ++f) {
@@ -155,7 +155,7 @@ TEST(Tracker, DropletsSmallerThanTheDiskAreCovered) {
   test::append(mesh, test::uv_sphere(4, 6, 0.2, Vec3(2.0, 2.5, 0.6)));
   test::append(mesh, test::uv_sphere(3, 4, 0.3, Vec3(3.0, 1.2, 0.8)));
   TrackerSettings settings;
-  settings.method.radius = 1.0;
+  settings.tracking.radius = 1.0;
   Tracker t(settings);
   for (int f = 1; f <= 3; ++f) {
     t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);
@@ -172,7 +172,7 @@ TEST(Tracker, CoarseFacesAreCoveredInside) {
   const FrameMesh mesh =
       test::flat_grid(3, 3.0, 0.0, 0.0, 0.0, [](const Vec3& p) { return Vec3(0.3 * p.y(), 0.0, 0.0); });
   TrackerSettings settings;
-  settings.method.radius = 0.25;
+  settings.tracking.radius = 0.25;
   Tracker t(settings);
   for (int f = 1; f <= 4; ++f) {
     t.step(std::make_shared<FrameMesh>(mesh), f, 1.0 / 24.0);

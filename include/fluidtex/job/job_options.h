@@ -97,7 +97,7 @@ struct SynthesisJobOptions {
   AtlasOptions atlas;
   Blend blend = Blend::ContrastPreserving;           ///< --blend
   double weight_cutoff = 0.1;                        ///< --weight-cutoff (SynthesisOptions::weight_cutoff)
-  SynthesisMethod method = SynthesisMethod::Raster;  ///< --synthesis
+  SynthesisScheme scheme = SynthesisScheme::Raster;  ///< --synthesis
   std::vector<std::string> aov;                      ///< --aov: the AOV layers of kFrameLayers
   bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
   bool float_output = false;                         ///< --float: 32-bit EXR/TIFF instead of half / 16-bit
@@ -121,7 +121,7 @@ struct SynthesisJobOptions {
     f(OptionInfo{.name = "synthesis",
                  .help = "raster: patch triangles rasterised in atlas space; exact: per-texel projection "
                          "(reference, slow)"},
-      o.method);
+      o.scheme);
     f(OptionInfo{.name = "aov", .help = aov_layer_help(), .choices = aov_layer_names()}, o.aov);
     f(OptionInfo{.name = "displacement", .help = "Write a one-channel height atlas (the exemplar is turned to grey)"},
       o.displacement);

@@ -105,7 +105,7 @@ struct FlowMapSettings {
   FlowMapOptions flowmap;
   /// Radius d and margin β set the tile size (2 + β)·d; s the uv scale. The
   /// automatic radius is resolved on the first frame as the tracker does.
-  TrackingOptions method;
+  TrackingOptions tracking;
   std::uint64_t seed = 1;
 };
 

@@ -31,19 +31,19 @@
 namespace fluidtex {
 
 enum class Blend { ContrastPreserving, Linear };
-enum class SynthesisMethod { Raster, Exact };
+enum class SynthesisScheme { Raster, Exact };
 
 inline constexpr EnumName<Blend> kBlendNames[] = {{Blend::ContrastPreserving, "contrast"}, {Blend::Linear, "linear"}};
 constexpr const auto& enum_names(Blend) { return kBlendNames; }
 inline const char* to_string(Blend b) { return enum_name(b); }
-inline constexpr EnumName<SynthesisMethod> kSynthesisMethodNames[] = {{SynthesisMethod::Raster, "raster"},
-                                                                      {SynthesisMethod::Exact, "exact"}};
-constexpr const auto& enum_names(SynthesisMethod) { return kSynthesisMethodNames; }
-inline const char* to_string(SynthesisMethod m) { return enum_name(m); }
+inline constexpr EnumName<SynthesisScheme> kSynthesisSchemeNames[] = {{SynthesisScheme::Raster, "raster"},
+                                                                      {SynthesisScheme::Exact, "exact"}};
+constexpr const auto& enum_names(SynthesisScheme) { return kSynthesisSchemeNames; }
+inline const char* to_string(SynthesisScheme m) { return enum_name(m); }
 
 struct SynthesisOptions {
   Blend blend = Blend::ContrastPreserving;
-  SynthesisMethod method = SynthesisMethod::Raster;
+  SynthesisScheme scheme = SynthesisScheme::Raster;
   /// Scene units covered by one exemplar tile at uv scale s = 1; the lookup
   /// is anchor + s·uv / tile_size. Must be > 0 (the job sets (2 + β)·d).
   double tile_size = 1.0;

@@ -45,7 +45,7 @@ inline constexpr long long kMaxDisks = 2000000;
 void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved);
 
 struct TrackerSettings {
-  TrackingOptions method;  ///< Table 3/4 parameters (resolved on the first frame)
+  TrackingOptions tracking;  ///< Table 3/4 parameters (resolved on the first frame)
   Advection advection = Advection::Euler;
   PatchMotion motion = PatchMotion::Smooth;
   std::uint64_t seed = 1;
@@ -123,7 +123,7 @@ class Tracker {
   const TrackerSettings& settings() const { return settings_; }
   /// How far apart the points are at which coverage is tested
   /// (face_samples): kCoverageSpacing × d.
-  double coverage_spacing() const { return kCoverageSpacing * settings_.method.d(); }
+  double coverage_spacing() const { return kCoverageSpacing * settings_.tracking.d(); }
   const SurfaceIndex* surface() const { return surface_.get(); }
   /// The current surface, shared: it stays valid after later steps (the
   /// pipeline synthesises frame t while the tracker moves on to t + 1).
