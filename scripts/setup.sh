@@ -42,7 +42,9 @@ if [[ "${SKIP_APT:-0}" != 1 ]]; then
     [[ $(id -u) -ne 0 ]] && SUDO="sudo"
     echo "setup: installing ${missing[*]}"
     $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+    # The whole list, so that apt holds every package named (perl-base and
+    # libegl-mesa0 included) as the build's; installed ones are left as they are.
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${PACKAGES[@]}"
   fi
 fi
 

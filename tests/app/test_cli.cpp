@@ -175,7 +175,8 @@ TEST(Cli, EveryNumberRefusesNaNAndValuesOutOfRange) {
   EXPECT_EQ(out.rfind("{\"event\":\"error\"", 0), 0u) << out;
 }
 
-/// The options of every command but `run`'s job table, as their tables list them.
+/// The options of every command, as their tables list them (the console and
+/// config options the CLI binds itself are not among them).
 std::map<std::string, std::vector<OptionInfo>> command_tables() {
   std::map<std::string, std::vector<OptionInfo>> tables;
   const auto collect = [&tables](const char* command) {
