@@ -8,7 +8,8 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
-#include "fluidtex/inspect/eval.h"
+#include "fluidtex/inspect/motion_metrics.h"
+#include "fluidtex/inspect/textured_frame.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/util/error.h"
 

@@ -11,13 +11,6 @@ namespace fluidtex {
 
 namespace {
 
-double value_of(const MetricRow& row, const std::string& key) {
-  for (const auto& [k, v] : row) {
-    if (k == key) return v;
-  }
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
 /// How a shot's value comes from its frames.
 enum class Aggregate {
   Largest,         ///< the largest frame's value
@@ -47,7 +40,7 @@ struct Measure {
 /// A frame's warping ratio; infinite for a texture that does not change in
 /// place at all (a still texture) while it changes along the liquid.
 double warping(const MetricRow& r) {
-  const double fixed = value_of(r, "warp_fixed"), advected = value_of(r, "warp_advected");
+  const double fixed = metric_value(r, "warp_fixed"), advected = metric_value(r, "warp_advected");
   if (fixed > 0.0) return advected / fixed;
   return advected > 0.0 ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
 }
@@ -55,14 +48,14 @@ double warping(const MetricRow& r) {
 /// A frame's flow error over its slow pixels; not judged where they move
 /// less than a pixel a frame (the ratio is noise there).
 double flow(const MetricRow& r) {
-  const double speed = value_of(r, "flow_slow_speed_px");
-  return speed >= 1.0 ? value_of(r, "flow_slow_endpoint_px") / speed : std::numeric_limits<double>::quiet_NaN();
+  const double speed = metric_value(r, "flow_slow_speed_px");
+  return speed >= 1.0 ? metric_value(r, "flow_slow_endpoint_px") / speed : std::numeric_limits<double>::quiet_NaN();
 }
 
 using T = EvalThresholds;
 const Measure kMeasures[] = {
     {"coverage", "uncovered surface", "share of the surface area, largest frame", "the texture leaves surface bare",
-     [](const MetricRow& r) { return value_of(r, "uncovered_area"); }, Aggregate::Largest, true, &T::uncovered_good,
+     [](const MetricRow& r) { return metric_value(r, "uncovered_area"); }, Aggregate::Largest, true, &T::uncovered_good,
      &T::uncovered_bad},
     {"warping", "warping ratio", "change along the liquid's motion over a still texture's change in place (0 to 1+)",
      "the texture slides against the liquid", warping, Aggregate::Mean, true, &T::warping_good, &T::warping_bad},
@@ -70,17 +63,17 @@ const Measure kMeasures[] = {
      "the texture's motion disagrees with the liquid's", flow, Aggregate::SummedRatio, true, &T::flow_good,
      &T::flow_bad, "flow_slow_endpoint_px", "flow_slow_speed_px"},
     {"ghosting", "ghosting", "patches blended per texel, mean", "many patches blend into a blur",
-     [](const MetricRow& r) { return value_of(r, "ghosting_mean"); }, Aggregate::Mean, true, &T::ghosting_good,
+     [](const MetricRow& r) { return metric_value(r, "ghosting_mean"); }, Aggregate::Mean, true, &T::ghosting_good,
      &T::ghosting_bad},
     {"contrast", "contrast change", "|σ of the atlas's green over the exemplar's − 1|",
      "the texture is washed out, or harsher than its exemplar",
-     [](const MetricRow& r) { return std::abs(value_of(r, "contrast_g") - 1.0); }, Aggregate::MeanFromOne, false,
+     [](const MetricRow& r) { return std::abs(metric_value(r, "contrast_g") - 1.0); }, Aggregate::MeanFromOne, false,
      &T::contrast_good, &T::contrast_bad, "contrast_g"},
     {"churn", "churn", "births per live patch a frame", "patches are born and fade all the time (popping)",
-     [](const MetricRow& r) { return value_of(r, "birth_rate"); }, Aggregate::MeanAfterFirst, false, &T::churn_good,
+     [](const MetricRow& r) { return metric_value(r, "birth_rate"); }, Aggregate::MeanAfterFirst, false, &T::churn_good,
      &T::churn_bad},
     {"distortion", "distortion", "95th percentile of the patch triangles' D_T (1 = undistorted)",
-     "the texture is stretched or squeezed", [](const MetricRow& r) { return value_of(r, "distortion_p95"); },
+     "the texture is stretched or squeezed", [](const MetricRow& r) { return metric_value(r, "distortion_p95"); },
      Aggregate::Mean, false, &T::distortion_good, &T::distortion_bad},
 };
 
@@ -96,8 +89,8 @@ double shot_value(const Measure& m, const std::vector<MetricRow>& rows) {
   int n = 0;
   for (std::size_t i = m.how == Aggregate::MeanAfterFirst ? 1 : 0; i < rows.size(); ++i) {
     if (m.how == Aggregate::SummedRatio || m.how == Aggregate::MeanFromOne) {
-      const double c = value_of(rows[i], m.column);
-      const double d = m.how == Aggregate::SummedRatio ? value_of(rows[i], m.denominator) : 1.0;
+      const double c = metric_value(rows[i], m.column);
+      const double d = m.how == Aggregate::SummedRatio ? metric_value(rows[i], m.denominator) : 1.0;
       if (std::isfinite(c) && std::isfinite(d)) sum += c, other += d, ++n;
       continue;
     }
@@ -167,7 +160,7 @@ Verdict judge(const std::vector<MetricRow>& rows, const EvalThresholds& threshol
     };
     for (const MetricRow& r : rows) {
       const double v = m.per_frame(r);
-      const int frame = static_cast<int>(value_of(r, "frame"));
+      const int frame = static_cast<int>(metric_value(r, "frame"));
       if (grade_of(v, f.good, f.bad) != Grade::Bad) {
         close();
         continue;

@@ -21,10 +21,7 @@ Exemplar load_exemplar(const std::string& path, bool displacement) {
     Image grey;
     grey.width = image.width, grey.height = image.height, grey.channels = 1;
     grey.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
-    for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
-      const float* p = &image.pixels[i * image.channels];
-      grey.pixels[i] = rec709_luminance(p[0], p[1], p[2]);
-    }
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i) grey.pixels[i] = luminance_at<float>(image, i);
     image = std::move(grey);
   } else if (displacement && image.channels == 2) {
     image.channels = 1;  // grey + alpha: keep grey

@@ -9,10 +9,7 @@ namespace fluidtex {
 Image height_map(const Image& color) {
   if (color.channels == 1) return color;
   Image height = Image::blank(color.width, color.height, 1);
-  for (std::size_t i = 0; i < height.pixels.size(); ++i) {
-    const float* p = color.pixel(i);
-    height.pixels[i] = color.channels >= 3 ? rec709_luminance(p[0], p[1], p[2]) : p[0];
-  }
+  for (std::size_t i = 0; i < height.pixels.size(); ++i) height.pixels[i] = luminance_at<float>(color, i);
   return height;
 }
 

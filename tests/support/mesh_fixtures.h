@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "fluidtex/geometry/mesh.h"
+#include "fluidtex/geometry/uv_mesh.h"
 
 namespace fluidtex::test {
 
@@ -64,6 +65,20 @@ inline FrameMesh uv_sphere(int rings, int segments, double r, const Vec3& c = Ve
   }
   for (int j = 0; j < segments; ++j) m.triangles.push_back({south, ring(rings - 1, j + 1), ring(rings - 1, j)});
   m.velocities.assign(m.positions.size(), Vec3::Zero());
+  return m;
+}
+
+/// A flat n×n grid over [x0, x0+1]×[0,1] whose uvs are fixed to its
+/// vertices (uv = vertex position at x0 = 0): moving x0 moves the texture
+/// with the surface.
+inline UVMesh textured_grid(int n, double x0) {
+  const FrameMesh grid = flat_grid(n, 1.0, 0.0, x0, 0.0);
+  UVMesh m;
+  m.positions = grid.positions;
+  m.normals.assign(grid.positions.size(), Vec3::UnitZ());
+  m.triangles = grid.triangles;
+  for (const Vec3& p : grid.positions) m.uvs.emplace_back(p.x() - x0, p.y());
+  m.uv_triangles = grid.triangles;
   return m;
 }
 

@@ -146,6 +146,13 @@ TEST(PatchCoverage, AgreesWithTheExactLocator) {
   EXPECT_EQ(empty_calls, 2);
 }
 
+TEST(PatchCoverage, TheWholeSurfaceIsUncoveredWithoutPatches) {
+  const FrameMesh grid = test::flat_grid(6);
+  const SurfaceIndex surface(grid);
+  const std::vector<Patch> none;
+  EXPECT_DOUBLE_EQ(uncovered_area_fraction(surface, PatchCoverage(none, 0.01), 0.05), 1.0);
+}
+
 TEST(PatchCoverage, NearestFindsTheClosestFacingPatchPoint) {
   // One patch: the unit square at z = 0, facing +z, split in two triangles.
   std::vector<Patch> patches(1);

@@ -117,4 +117,12 @@ constexpr T rec709_luminance(T r, T g, T b) {
   return T(0.2126) * r + T(0.7152) * g + T(0.0722) * b;
 }
 
+/// Luminance of texel `i` of `image`: Rec. 709 of its first three channels,
+/// or its first channel when it has fewer (grey, grey + alpha).
+template <class T>
+T luminance_at(const Image& image, std::size_t i) {
+  const float* p = image.pixel(i);
+  return image.channels >= 3 ? rec709_luminance<T>(p[0], p[1], p[2]) : p[0];
+}
+
 }  // namespace fluidtex

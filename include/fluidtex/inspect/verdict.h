@@ -9,14 +9,11 @@
 #include <utility>
 #include <vector>
 
+#include "fluidtex/inspect/metric_row.h"
 #include "fluidtex/util/enum_names.h"
 #include "fluidtex/util/options.h"
 
 namespace fluidtex {
-
-/// eval's per-frame figures (and the summary's means) by name; NaN = not
-/// measured.
-using MetricRow = std::vector<std::pair<std::string, double>>;
 
 enum class Grade { Good, Warn, Bad };
 inline constexpr EnumName<Grade> kGradeNames[] = {{Grade::Good, "good"}, {Grade::Warn, "warn"}, {Grade::Bad, "bad"}};

@@ -1,0 +1,47 @@
+/// @file texture_metrics.h
+/// @brief What an atlas looks like against its exemplar, measured on the
+/// texels its charts cover: contrast (the loss Eq. 7's blending is there to
+/// prevent) and the radially averaged power spectrum (feature size and
+/// sharpness), at the atlas's texel density.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "fluidtex/geometry/image.h"
+#include "fluidtex/geometry/uv_mesh.h"
+#include "fluidtex/texture/exemplar.h"
+
+namespace fluidtex {
+
+/// Texels of a `size`² atlas covered by the uv triangles of `mesh` (texel
+/// centre inside a uv triangle): the chart texels.
+std::vector<char> chart_mask(const UVMesh& mesh, int size);
+
+/// n×n windows (top-left corners) of a `size`² atlas lying wholly inside
+/// the charts of `mask`, at most `limit`, spread over the candidates in
+/// scan order (deterministic).
+std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, int size, int n, int limit);
+
+/// Atlas texels per scene unit of `mesh` in a `size`² atlas (the square root
+/// of the uv area in texels over the surface area).
+double texel_density(const UVMesh& mesh, int size);
+
+/// σ of each channel of `image` over the texels where `mask` is set,
+/// divided by the exemplar's σ (1 = contrast kept; linear blending of k
+/// uncorrelated patches gives about 1/sqrt(k)).
+std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar);
+
+/// Radially averaged log power spectrum (luminance, Hann window, DC left
+/// out) of the n×n crop of `image` at (x0, y0); n a power of two. Bin k
+/// averages the frequencies with k <= |f| < k+1, k = 1 .. n/2 − 1.
+std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int n);
+
+/// RMS difference of two radial log spectra (natural log units).
+double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b);
+
+/// The exemplar resampled (bilinear, tiled) at `scale` exemplar texels per
+/// output texel, an n×n crop starting at exemplar texel (x0, y0).
+Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale, int n);
+
+}  // namespace fluidtex

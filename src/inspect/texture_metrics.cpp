@@ -1,0 +1,172 @@
+#include "fluidtex/inspect/texture_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+
+#include <unsupported/Eigen/FFT>
+
+#include "fluidtex/geometry/mesh.h"
+#include "fluidtex/util/check.h"
+#include "fluidtex/util/error.h"
+
+namespace fluidtex {
+
+std::vector<char> chart_mask(const UVMesh& mesh, int size) {
+  std::vector<char> mask(static_cast<std::size_t>(size) * size, 0);
+  for (const Tri& t : mesh.uv_triangles) {
+    std::array<Vec2, 3> p;
+    for (int k = 0; k < 3; ++k) p[k] = Vec2(u_to_px(mesh.uvs[t[k]].x(), size), v_to_py(mesh.uvs[t[k]].y(), size));
+    const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+    const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[2] - p[0]).x() * (p[1] - p[0]).y();
+    if (area == 0.0) continue;
+    for (int y = std::max(0, static_cast<int>(lo.y() - 0.5)); y <= std::min(size - 1, static_cast<int>(hi.y())); ++y) {
+      for (int x = std::max(0, static_cast<int>(lo.x() - 0.5)); x <= std::min(size - 1, static_cast<int>(hi.x()));
+           ++x) {
+        const Vec2 q(x + 0.5, y + 0.5);
+        auto edge = [&](const Vec2& a, const Vec2& b) {
+          return ((b - a).x() * (q - a).y() - (q - a).x() * (b - a).y()) / area;
+        };
+        if (edge(p[0], p[1]) >= -1e-9 && edge(p[1], p[2]) >= -1e-9 && edge(p[2], p[0]) >= -1e-9) {
+          mask[texel_index(x, y, size)] = 1;
+        }
+      }
+    }
+  }
+  return mask;
+}
+
+std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar) {
+  const int nc = std::min(image.channels, exemplar.channels());
+  std::vector<double> sum(nc, 0.0), sum2(nc, 0.0);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    ++n;
+    for (int c = 0; c < nc; ++c) {
+      const double v = image.pixels[i * image.channels + c];
+      sum[c] += v, sum2[c] += v * v;
+    }
+  }
+  std::vector<double> ratio(nc, 0.0);
+  if (n < 2) return ratio;
+  for (int c = 0; c < nc; ++c) {
+    const double mean = sum[c] / n;
+    const double sd = std::sqrt(std::max(0.0, sum2[c] / n - mean * mean));
+    ratio[c] = exemplar.stddev()[c] > 0.0f ? sd / exemplar.stddev()[c] : 0.0;
+  }
+  return ratio;
+}
+
+std::vector<double> radial_log_spectrum(const Image& image, int x0, int y0, int n) {
+  if (n < 8 || (n & (n - 1)) != 0) throw InternalError("radial_log_spectrum: n must be a power of two >= 8");
+  if (x0 < 0 || y0 < 0 || x0 + n > image.width || y0 + n > image.height)
+    throw InternalError("radial_log_spectrum: crop outside the image");
+  // Luminance, mean removed, Hann window.
+  std::vector<double> window(n);
+  for (int i = 0; i < n; ++i) window[i] = 0.5 - 0.5 * std::cos(2.0 * M_PI * (i + 0.5) / n);
+  std::vector<double> lum(static_cast<std::size_t>(n) * n);
+  double mean = 0.0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      lum[texel_index(x, y, n)] =
+          luminance_at<double>(image, static_cast<std::size_t>(y0 + y) * image.width + (x0 + x));
+      mean += lum[texel_index(x, y, n)];
+    }
+  }
+  mean /= static_cast<double>(n) * n;
+  // 2D FFT: rows, then columns.
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> grid(static_cast<std::size_t>(n) * n);
+  std::vector<double> row(n);
+  std::vector<std::complex<double>> out(n), col(n);
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) row[x] = (lum[texel_index(x, y, n)] - mean) * window[x] * window[y];
+    fft.fwd(out, row);
+    for (int x = 0; x < n; ++x) grid[texel_index(x, y, n)] = out[x];
+  }
+  for (int x = 0; x < n; ++x) {
+    for (int y = 0; y < n; ++y) col[y] = grid[texel_index(x, y, n)];
+    fft.fwd(out, col);
+    for (int y = 0; y < n; ++y) grid[texel_index(x, y, n)] = out[y];
+  }
+  const int bins = n / 2;
+  std::vector<double> power(bins, 0.0);
+  std::vector<int> count(bins, 0);
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const int fx = x <= n / 2 ? x : x - n, fy = y <= n / 2 ? y : y - n;
+      const int k = static_cast<int>(std::sqrt(static_cast<double>(fx * fx + fy * fy)));
+      if (k < 1 || k >= bins) continue;
+      power[k] += std::norm(grid[texel_index(x, y, n)]);
+      ++count[k];
+    }
+  }
+  std::vector<double> spectrum;
+  for (int k = 1; k < bins; ++k) spectrum.push_back(std::log(power[k] / std::max(1, count[k]) + 1e-12));
+  return spectrum;
+}
+
+double spectrum_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  FLUIDTEX_CHECK_EQ(a.size(), b.size());
+  FLUIDTEX_CHECK(!a.empty());
+  double sum = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) sum += (a[k] - b[k]) * (a[k] - b[k]);
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale, int n) {
+  Image out;
+  out.width = out.height = n;
+  out.channels = exemplar.channels();
+  out.pixels.resize(static_cast<std::size_t>(n) * n * out.channels);
+  const int w = exemplar.image().width, h = exemplar.image().height;
+  float px[3];
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      exemplar.sample(px_to_u(x0 + (x + 0.5) * scale, w), py_to_v(y0 + (y + 0.5) * scale, h), px);
+      for (int c = 0; c < out.channels; ++c) out.at(x, y, c) = px[c];
+    }
+  }
+  return out;
+}
+
+/// n×n windows of the atlas lying inside the charts, at most `limit`, spread
+/// over the candidates in scan order (deterministic).
+std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, int size, int n, int limit) {
+  std::vector<std::uint32_t> sat(static_cast<std::size_t>(size + 1) * (size + 1), 0);  // summed-area table
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      sat[static_cast<std::size_t>(y + 1) * (size + 1) + x + 1] =
+          mask[static_cast<std::size_t>(y) * size + x] + sat[static_cast<std::size_t>(y) * (size + 1) + x + 1] +
+          sat[static_cast<std::size_t>(y + 1) * (size + 1) + x] - sat[static_cast<std::size_t>(y) * (size + 1) + x];
+    }
+  }
+  std::vector<std::pair<int, int>> all;
+  for (int y = 0; y + n <= size; y += n / 2) {
+    for (int x = 0; x + n <= size; x += n / 2) {
+      auto S = [&](int xx, int yy) { return sat[static_cast<std::size_t>(yy) * (size + 1) + xx]; };
+      if (S(x + n, y + n) - S(x, y + n) - S(x + n, y) + S(x, y) == static_cast<std::uint32_t>(n * n))
+        all.emplace_back(x, y);
+    }
+  }
+  if (static_cast<int>(all.size()) <= limit) return all;
+  std::vector<std::pair<int, int>> out;
+  out.reserve(static_cast<std::size_t>(limit));
+  for (int k = 0; k < limit; ++k) out.push_back(all[static_cast<std::size_t>(k) * all.size() / limit]);
+  return out;
+}
+
+/// Texels per scene unit of a UV mesh in a size² atlas (area ratio).
+double texel_density(const UVMesh& mesh, int size) {
+  double a3 = 0.0, a2 = 0.0;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Tri& t = mesh.triangles[f];
+    a3 += triangle_area(mesh.positions, t);
+    a2 += triangle_area(mesh.uvs, mesh.uv_triangles[f]) * size * size;
+  }
+  return a3 > 0.0 ? std::sqrt(a2 / a3) : 0.0;
+}
+
+}  // namespace fluidtex
