@@ -8,9 +8,7 @@
 #include "fluidtex/job/job_options.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/job/pipeline.h"
-#include "fluidtex/scenes/scenes.h"
 #include "fluidtex/util/version.h"
-#include "mesh_fixtures.h"
 #include "test_util.h"
 
 namespace fluidtex {
@@ -82,68 +80,6 @@ TEST(JobOptions, RunJobWritesItsJobToml) {
   EXPECT_EQ(record.version, version_line());
   EXPECT_EQ(record.frames, (std::vector<int>{1, 2}));
   EXPECT_EQ(record.options.seed, 5u);
-}
-
-/// Keeps the warnings a run gives.
-}  // namespace
-}  // namespace fluidtex
-
-namespace fluidtex {
-namespace {
-
-/// A frame is complete with its state or absent: when the state cannot be
-/// written (here a folder is in its way; disk full or a read-only state/ are
-/// the same), the atlas and mesh of that frame and of the frames in flight
-/// behind it are removed again.
-TEST(Pipeline, FrameWhoseStateFailsLeavesNoAtlasOrMesh) {
-  test::TempDir dir;
-  test::write_rotation_scene(dir.path(), 3, 8, "ex.png", 16);
-  JobOptions job;
-  job.input.pattern = dir.file("rotation.####.ply");
-  job.exemplar = dir.file("ex.png");
-  job.output.dir = dir.file("out");
-  job.synthesis.atlas.size = 64;
-  std::filesystem::create_directories(dir.path() / "out" / "state" / "patches.0002.bin");
-  EXPECT_THROW(run_job(job, silent_reporter()), InternalError);
-  const auto out = dir.path() / "out";
-  EXPECT_TRUE(std::filesystem::exists(out / "atlas.0001.exr"));
-  EXPECT_TRUE(std::filesystem::exists(out / "state" / "patches.0001.bin"));
-  for (const char* name : {"atlas.0002.exr", "mesh.0002.obj", "atlas.0003.exr", "mesh.0003.obj"})
-    EXPECT_FALSE(std::filesystem::exists(out / name)) << name;  // frame 3 may have been in flight
-}
-
-/// Keeps the warnings a run gives.
-struct WarningLog : Reporter {
-  std::vector<std::string> warnings;
-  void warn(const std::string& message) override { warnings.push_back(message); }
-};
-
-TEST(Pipeline, LiquidThatGrowsFromASmallStartIsWarnedOfOnceUnlessTheRadiusIsGiven) {
-  // A flat sheet spreading from 0.25 to 0.85 across in three frames (its
-  // area 11.6 times the first's): the automatic radius comes from the first
-  // frame, so the patches multiply. One warning says so and what to do.
-  test::TempDir dir;
-  const std::vector<double> sizes = {0.25, 0.45, 0.65, 0.85};
-  const double fps = 24.0;
-  for (std::size_t i = 0; i < sizes.size(); ++i) {
-    const double rate = i + 1 < sizes.size() ? (sizes[i + 1] / sizes[i] - 1.0) * fps : 0.0;
-    const FrameMesh sheet = test::flat_grid(24, sizes[i], 0.0, 0.0, 0.0, [&](const Vec3& p) { return rate * p; });
-    write_frame_ply(dir.file(FramePattern("sheet.####.ply").path(static_cast<int>(i) + 1)), sheet, fps);
-  }
-  JobOptions job;
-  job.input.pattern = dir.file("sheet.####.ply");
-  job.output.dir = dir.file("auto");
-  job.synthesis.track_only = true;
-  WarningLog log;
-  run_job(job, log);
-  ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_TRUE(log.warnings[0].starts_with("frame 4: the liquid's surface is 11.6 times frame 1's")) << log.warnings[0];
-  EXPECT_NE(log.warnings[0].find("give --radius"), std::string::npos) << log.warnings[0];
-  job.output.dir = dir.file("given");
-  job.tracking.radius = 0.05;
-  WarningLog quiet;
-  run_job(job, quiet);
-  EXPECT_TRUE(quiet.warnings.empty());
 }
 
 }  // namespace

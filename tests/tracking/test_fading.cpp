@@ -1,8 +1,11 @@
 // The four disk states and K_t (tracking/fading.h): Eq. 5 and 6 and the
-// flow rule.
+// flow rule; the retire causes counted by rule and age.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "fluidtex/tracking/fading.h"
+#include "fluidtex/tracking/tracker.h"
 
 namespace fluidtex {
 namespace {
@@ -66,6 +69,32 @@ TEST(Fading, AFloorOnTheRateShortensTheFadeButNeverSlowsIt) {
   EXPECT_NEAR(r.kt, 0.5, 1e-12);  // Eq. 6's (ρ + 1)/τ is faster
   r = fade_step(DiskState::FadingOutClose, 0.3, 0, 10, Fading::Flow, 0.0, 0.35);
   EXPECT_TRUE(r.remove);
+}
+
+TEST(RetireCauses, CountsAndAgeBuckets) {
+  EXPECT_EQ(age_bucket(0), 0);
+  EXPECT_EQ(age_bucket(1), 0);
+  EXPECT_EQ(age_bucket(2), 1);
+  EXPECT_EQ(age_bucket(7), 2);
+  EXPECT_EQ(age_bucket(8), 3);
+  EXPECT_EQ(age_bucket(31), 4);
+  EXPECT_EQ(age_bucket(32), 5);
+  EXPECT_EQ(age_bucket(1000), 5);
+  const auto counts =
+      retired_counts({{1, RetireCause::Quality, 3}, {2, RetireCause::Quality, 40}, {5, RetireCause::TooClose, 0}});
+  auto get = [&](const std::string& k) {
+    for (const auto& [key, n] : counts)
+      if (key == k) return n;
+    ADD_FAILURE() << "no key " << k;
+    return -1.0;
+  };
+  EXPECT_EQ(counts.size(), static_cast<std::size_t>(kRetireCauses - 1 + kAgeBuckets));
+  EXPECT_EQ(get("retired_quality"), 2);
+  EXPECT_EQ(get("retired_too_close"), 1);
+  EXPECT_EQ(get("retired_flipped"), 0);
+  EXPECT_EQ(get("retired_age_0_1"), 1);
+  EXPECT_EQ(get("retired_age_2_3"), 1);
+  EXPECT_EQ(get("retired_age_32_up"), 1);
 }
 
 }  // namespace

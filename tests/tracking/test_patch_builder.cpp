@@ -1,9 +1,12 @@
 // Patch creation (tracking/patch_builder.h, patch.h): the selection stays
-// a disk, a flat patch is undistorted, border edges are marked.
+// a disk, a flat patch is undistorted, border edges are marked; a recut
+// keeps the texture where the old patch was intact.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <set>
 
 #include "fluidtex/geometry/distortion.h"
@@ -11,6 +14,7 @@
 #include "fluidtex/tracking/patch.h"
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_distortion.h"
+#include "fluidtex/tracking/patch_locator.h"
 #include "mesh_fixtures.h"
 #include "test_util.h"
 
@@ -116,6 +120,180 @@ TEST(PatchBuilder, SelectionStaysADiskAroundAHole) {
   EXPECT_EQ(static_cast<long>(patch->num_vertices()) - static_cast<long>(edges.size()) +
                 static_cast<long>(patch->triangles.size()),
             1);
+}
+
+// --- Recut ---------------------------------------------------------------------
+
+/// The texture coordinate (before anchor and scale) that `patch` shows at the
+/// surface point `q` (normal `n`), through its nearest triangle there; false
+/// where it does not cover q.
+bool texture_at(const Patch& patch, const Vec3& q, const Vec3& n, double tolerance, Vec2& texture) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Tri& t : patch.triangles) {
+    Vec3 bary;
+    double dist2 = 0.0;
+    if (!project_to_patch_triangle(patch, t, q, n, tolerance, bary, dist2) || !(dist2 < best)) continue;
+    best = dist2;
+    texture = patch.texture_offset + interpolate(patch.uvs, t, bary);
+  }
+  return std::isfinite(best);
+}
+
+/// A patch of disk radius `radius` built at `c0` on a flat unit grid, then
+/// deformed by a map of the plane (as advection would leave it), and recut.
+class FlatRecut {
+ public:
+  FlatRecut(double radius, const Vec3& c0) : mesh_(test::flat_grid(40)), surface_(mesh_), c0_(c0) {
+    o_ = TrackingOptions{}.resolved(1.0);
+    o_.radius = radius;
+    SurfaceSample c;
+    c.point = surface_.closest_point(c0);
+    c.normal = surface_.normal_at(c.point);
+    old_ = build_patch(surface_, c, o_, 7, 1, 1, 0.25 * o_.d());
+  }
+  bool built() const { return old_.has_value(); }
+  Patch& old() { return *old_; }
+  const TrackingOptions& options() const { return o_; }
+  /// Moves the old patch's vertices and centre by `f`; returns update_distortion's verdict.
+  template <class F>
+  RetireCause deform(F&& f) {
+    for (std::size_t v = 0; v < old_->num_vertices(); ++v) {
+      old_->projections[v] = surface_.closest_point(f(old_->positions[v]));
+      old_->positions[v] = old_->projections[v].position;
+    }
+    old_->centre.point = surface_.closest_point(f(c0_));
+    return update_distortion(*old_, surface_, o_);
+  }
+  std::optional<Patch> recut() {
+    std::optional<Patch> cut = recut_patch(*old_, surface_, o_, 1, 9, 0.25 * o_.d());
+    if (cut) update_distortion(*cut, surface_, o_);
+    return cut;
+  }
+  /// The old patch's texture coordinate at `q`.
+  bool old_texture(const Vec3& q, Vec2& texture) const {
+    return texture_at(*old_, q, Vec3::UnitZ(), o_.mpt(), texture);
+  }
+
+ private:
+  FrameMesh mesh_;
+  SurfaceIndex surface_;  // refers to mesh_
+  Vec3 c0_;
+  TrackingOptions o_;
+  std::optional<Patch> old_;
+};
+
+TEST(Recut, ARigidlyMovedPatchKeepsItsTextureAndItsPlace) {
+  const Vec3 c0(0.45, 0.5, 0);
+  FlatRecut bench(0.15, c0);
+  ASSERT_TRUE(bench.built());
+  const double d = bench.options().d();
+  Patch& old = bench.old();
+  old.texture_offset = Vec2(0.3, -0.2);
+  // Its texture shifted under it (uv 0 no longer at its centre): the fit
+  // must shift the new texture too.
+  for (Vec2& uv : old.uvs) uv += Vec2(0.02, -0.01);
+  old.anchor = Vec2(0.25, 0.75);
+  old.state = DiskState::FadingIn, old.kt = 0.4, old.created_frame = -5, old.close_frames = 2;
+  // Turned 0.7 rad about its centre and carried along: its uv no longer
+  // line up with a fresh flattening's.
+  const Eigen::AngleAxisd turn(0.7, Vec3::UnitZ());
+  const Vec3 shift(0.06, 0.02, 0.0);
+  ASSERT_EQ(bench.deform([&](const Vec3& x) { return Vec3(turn * (x - c0) + c0 + shift); }), RetireCause::None);
+
+  const std::optional<Patch> cut = bench.recut();
+  ASSERT_TRUE(cut);
+  EXPECT_EQ(cut->id, 7u);
+  EXPECT_EQ(cut->state, DiskState::FadingIn);
+  EXPECT_EQ(cut->kt, 0.4);
+  EXPECT_EQ(cut->created_frame, -5);
+  EXPECT_EQ(cut->recut_frame, 9);
+  EXPECT_EQ(cut->close_frames, 2);
+  EXPECT_EQ(cut->anchor, old.anchor);
+  EXPECT_EQ(cut->centre.point.position, old.centre.point.position);
+  int compared = 0;
+  double worst = 0.0;
+  for (std::size_t v = 0; v < cut->num_vertices(); ++v) {
+    Vec2 before;
+    // Inside the old patch's rim (just outside it, the projection's slack
+    // clamps onto the rim).
+    if (!bench.old_texture(cut->positions[v], before)) continue;
+    if ((before - old.texture_offset).norm() > 1.5 * d) continue;
+    ++compared;
+    worst = std::max(worst, (cut->texture_offset + cut->uvs[v] - before).norm());
+    // It shows there what the old patch showed: all of it.
+    if ((before - old.texture_offset).norm() < d) EXPECT_NEAR(cut->recovery[v], 1.0, 1e-6);
+  }
+  EXPECT_GT(compared, 50);
+  EXPECT_LT(worst, 1e-6 * d);
+  // Its uv still have the disk centre at the origin (K_S's radial term).
+  Vec2 centre;
+  ASSERT_TRUE(texture_at(*cut, cut->centre.point.position, Vec3::UnitZ(), bench.options().mpt(), centre));
+  EXPECT_LT((centre - cut->texture_offset).norm(), 1e-6);
+}
+
+TEST(Recut, WhereThePatchWasCrushedTheNewTextureFadesIn) {
+  FlatRecut bench(0.15, Vec3(0.45, 0.5, 0));
+  ASSERT_TRUE(bench.built());
+  const double d = bench.options().d();
+  // The band 0.5 < x < 0.58 crushed 20× (a convergence line), what lies
+  // beyond it carried along.
+  auto crush = [](double x) { return x < 0.5 ? x : x < 0.58 ? 0.5 + (x - 0.5) / 20 : x - 0.08 + 0.08 / 20; };
+  bench.deform([&](const Vec3& x) { return Vec3(crush(x.x()), x.y(), 0.0); });
+  const std::optional<Patch> cut = bench.recut();
+  ASSERT_TRUE(cut);
+  double intact_error = 0.0, band_recovery = 0.0, intact_recovery = 0.0;
+  int intact = 0, band = 0;
+  for (std::size_t v = 0; v < cut->num_vertices(); ++v) {
+    const Vec3& x = cut->positions[v];
+    Vec2 before;
+    if (cut->uvs[v].norm() > d || !bench.old_texture(x, before)) continue;
+    if (x.x() < 0.49) {  // left of the band: moved rigidly (not at all)
+      ++intact;
+      intact_error += (cut->texture_offset + cut->uvs[v] - before).norm();
+      intact_recovery += cut->recovery[v];
+    } else if (std::abs(x.x() - 0.502) < 0.015) {  // at the crushed band
+      ++band;
+      band_recovery += cut->recovery[v];
+    }
+  }
+  ASSERT_GT(intact, 10);
+  ASSERT_GT(band, 0);
+  // Left of the band the texture stays exactly and shows fully; at the band,
+  // where the old patch's Q_V fell (half its triangles crushed), the new
+  // patch starts at what it showed.
+  EXPECT_LT(intact_error / intact, 1e-6 * d);
+  EXPECT_GT(intact_recovery / intact, 0.99);
+  EXPECT_LT(band_recovery / band, 0.6);
+}
+
+TEST(Recut, AStretchedPatchIsCutUndistortedAroundTheSameTexture) {
+  const Vec3 c0(0.5, 0.5, 0);
+  FlatRecut bench(0.12, c0);
+  ASSERT_TRUE(bench.built());
+  const double d = bench.options().d();
+  // Stretched 2.5× along x.
+  ASSERT_NE(bench.deform([&](const Vec3& x) { return Vec3(c0.x() + 2.5 * (x.x() - c0.x()), x.y(), 0.0); }),
+            RetireCause::None);
+  const std::optional<Patch> cut = bench.recut();
+  ASSERT_TRUE(cut);
+  EXPECT_LT(cut->max_distortion, 1.01);
+  // Along the line the stretch left alone (x = 0.5) the texture is where it
+  // was; away from it, the stretch is gone.
+  int on_line = 0;
+  double line_error = 0.0, off_error = 0.0;
+  for (std::size_t v = 0; v < cut->num_vertices(); ++v) {
+    Vec2 before;
+    if (cut->uvs[v].norm() > d || !bench.old_texture(cut->positions[v], before)) continue;
+    const double error = (cut->texture_offset + cut->uvs[v] - before).norm();
+    if (std::abs(cut->positions[v].x() - c0.x()) < 1e-3 * d) {
+      ++on_line, line_error = std::max(line_error, error);
+    } else {
+      off_error = std::max(off_error, error);
+    }
+  }
+  ASSERT_GT(on_line, 2);
+  EXPECT_LT(line_error, 1e-6 * d);
+  EXPECT_GT(off_error, 0.1 * d);
 }
 
 }  // namespace
