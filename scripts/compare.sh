@@ -21,7 +21,7 @@ mkdir -p "$out"
 
 gen() {  # scene resolution
   [[ -f "$out/$1/$1.0001.ply" ]] || "$bin" gen "$1" -o "$out/$1" --frames "$frames" --resolution "$2" \
-    --exemplar gravel --exemplar-size 256 >/dev/null
+    --exemplar gravel --exemplar-pixels 256 >/dev/null
 }
 run() {  # name scene [run options...]
   local name=$1 scene=$2

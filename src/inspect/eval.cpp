@@ -79,15 +79,16 @@ void patch_figures(const Tracker& tracker, const JobOptions& job, const Exemplar
 }
 
 /// Contrast and spectrum of the atlas the run wrote, against the exemplar at
-/// the atlas's texel density.
-void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved, const Exemplar& exemplar,
-                     MetricRow& row) {
+/// the atlas's texel density, and the exemplar's size on the surface asked
+/// for and measured.
+void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved, const SynthesisJobOptions& so,
+                     const Exemplar& exemplar, MetricRow& row) {
   const std::vector<char> mask = chart_mask(frame.mesh, frame.atlas.width);
   const std::vector<double> contrast = contrast_ratio(frame.atlas, mask, exemplar);
   const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
   for (std::size_t c = 0; c < contrast.size(); ++c)
     row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
-  const double tile = resolved.exemplar_tile_size();
+  const double tile = resolved.exemplar_tile_size(so.exemplar_size);
   const double density = texel_density(frame.mesh, frame.atlas.width);
   const double scale =
       exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
@@ -98,14 +99,7 @@ void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved
     // puts first in scan order.
     const auto windows = chart_windows(mask, frame.atlas.width, n, 64);
     if (windows.empty() || !(scale > 0.0)) continue;
-    std::vector<double> reference(n / 2 - 1, 0.0);
-    const int crops = 32;
-    for (int k = 0; k < crops; ++k) {
-      const Image crop =
-          exemplar_crop(exemplar, exemplar.image().width * (0.37 * k), exemplar.image().height * (0.61 * k), scale, n);
-      const std::vector<double> s = radial_log_spectrum(crop, 0, 0, n);
-      for (std::size_t b = 0; b < s.size(); ++b) reference[b] += s[b] / crops;
-    }
+    const std::vector<double> reference = exemplar_spectrum(exemplar, scale, n, 32);
     double sum = 0.0;
     for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(frame.atlas, x, y, n), reference);
     spectrum = sum / static_cast<double>(windows.size());
@@ -113,6 +107,11 @@ void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved
     break;
   }
   row.emplace_back("spectrum_distance", spectrum);
+  // The exemplar's size on the surface: what the job asked for, and what
+  // the atlas shows through the UV mesh.
+  const double span = exemplar_span(resolved, so);
+  row.emplace_back("exemplar_size", span);
+  row.emplace_back("exemplar_size_measured", measured_exemplar_span(frame.atlas, frame.mesh, exemplar, span));
 }
 
 /// Texture–flow agreement of two frames measured: warping error and optical
@@ -249,8 +248,10 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   input.skipped_frames = SkippedFrames::Follow;
   const Sequence sequence(input);
   const FollowedFrames read(sequence);
-  const Exemplar exemplar =
-      load_exemplar(options.exemplar.empty() ? job.exemplar : options.exemplar, job.synthesis.displacement);
+  if (!options.exemplar.empty()) job.exemplar = options.exemplar;
+  // The exemplar in the space the atlases are in (managed: the output space).
+  const TextureSource source = load_texture_source(job);
+  const Exemplar exemplar(source.colors.to_output(source.exemplar.image()));
   const std::string dir = options.run_dir + "/eval";
   std::filesystem::create_directories(dir);
 
@@ -281,7 +282,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       patch_figures(tracker, job, exemplar, row);
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
-    texture_figures(current, *resolved, exemplar, row);
+    texture_figures(current, *resolved, job.synthesis, exemplar, row);
     if (previous) {
       const LiquidMotion motion = read.motion_between(sequence.frames()[i - 1], frame);
       flow_figures(*previous_mesh, *previous, current, motion, exemplar, options, frame, row);

@@ -142,6 +142,9 @@ const std::vector<Chart>& report_charts() {
       {"Optical flow angular error (deg)", {"flow_angular_deg"}, {"angular"}},
       {"Contrast σ_out / σ_exemplar", {"contrast_r", "contrast_g", "contrast_b", "contrast"}, {"R", "G", "B", "grey"}},
       {"Spectrum distance to the exemplar", {"spectrum_distance"}, {"log-spectrum RMS"}},
+      {"Exemplar tile on the surface (scene units)",
+       {"exemplar_size", "exemplar_size_measured"},
+       {"the job's", "measured on the atlas"}},
   };
   return charts;
 }

@@ -1,9 +1,11 @@
 #include "fluidtex/inspect/info.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
+#include "fluidtex/tracking/options.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/json.h"
 
@@ -53,6 +55,37 @@ std::string frame_row(const FrameInfo& f) {
   }
   std::snprintf(line, sizeof line, "%7d %9zu %9zu %10.4g %10.4g %10.4g %10.4g  %s\n", f.frame, f.vertices, f.faces,
                 f.area, f.mean_edge, f.speed_max, f.speed_mean, notes.c_str());
+  return line;
+}
+
+}  // namespace
+
+std::optional<TextureScale> default_texture_scale(const std::vector<FrameInfo>& frames) {
+  const auto first = std::find_if(frames.begin(), frames.end(), [](const FrameInfo& f) { return f.error.empty(); });
+  if (first == frames.end() || !(first->bbox.diagonal() > 0.0)) return std::nullopt;
+  const TrackingOptions resolved = TrackingOptions{}.resolved(first->bbox.diagonal());
+  TextureScale scale;
+  scale.radius = resolved.d();
+  scale.exemplar_size = resolved.exemplar_tile_size() / resolved.uv_scale;
+  // Two significant digits: a value to write into a show's settings.
+  const double unit = std::pow(10.0, std::floor(std::log10(scale.exemplar_size)) - 1.0);
+  scale.suggested_exemplar_size = std::round(scale.exemplar_size / unit) * unit;
+  return scale;
+}
+
+namespace {
+
+/// What info says of the texture's default size and the --exemplar-size to
+/// give (empty when no frame is readable).
+std::string texture_scale_line(const std::vector<FrameInfo>& frames) {
+  const std::optional<TextureScale> scale = default_texture_scale(frames);
+  if (!scale) return "";
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "texture size: by default one exemplar tile spans %.4g scene units (%.3g x --radius %.4g, from the "
+                "first frame's size); to give every shot the same, set --exemplar-size (e.g. %.2g)\n",
+                scale->exemplar_size, scale->exemplar_size / scale->radius, scale->radius,
+                scale->suggested_exemplar_size);
   return line;
 }
 
@@ -108,6 +141,7 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSou
                   all.max.z(), all.diagonal(), speed_lo, speed_hi, speed_lo / fps, speed_hi / fps);
     out += line;
   }
+  out += texture_scale_line(frames);
   std::snprintf(line, sizeof line, "problems: %zu unreadable, %zu cleaned, %zu non-manifold\n", bad, cleaned,
                 nonmanifold);
   out += line;
@@ -147,7 +181,13 @@ std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, F
                                            {"components", static_cast<double>(f.clean.components)}});
     out += "}";
   }
-  out += "],\"errors\":" + std::to_string(errors) + "}\n";
+  out += "],\"errors\":" + std::to_string(errors);
+  if (const std::optional<TextureScale> scale = default_texture_scale(frames)) {
+    out += ",\"texture_scale\":" + to_json_object({{"radius", scale->radius},
+                                                   {"exemplar_size", scale->exemplar_size},
+                                                   {"suggested_exemplar_size", scale->suggested_exemplar_size}});
+  }
+  out += "}\n";
   return out;
 }
 

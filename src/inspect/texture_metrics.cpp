@@ -169,4 +169,61 @@ double texel_density(const UVMesh& mesh, int size) {
   return a3 > 0.0 ? std::sqrt(a2 / a3) : 0.0;
 }
 
+std::vector<double> exemplar_spectrum(const Exemplar& exemplar, double scale, int n, int crops) {
+  std::vector<double> mean(static_cast<std::size_t>(n / 2 - 1), 0.0);
+  for (int k = 0; k < crops; ++k) {
+    const Image crop =
+        exemplar_crop(exemplar, exemplar.image().width * (0.37 * k), exemplar.image().height * (0.61 * k), scale, n);
+    const std::vector<double> s = radial_log_spectrum(crop, 0, 0, n);
+    for (std::size_t b = 0; b < s.size(); ++b) mean[b] += s[b] / crops;
+  }
+  return mean;
+}
+
+namespace {
+
+/// `s` less its mean: the shape of a log spectrum, whatever the contrast.
+std::vector<double> shape_of(std::vector<double> s) {
+  double mean = 0.0;
+  for (double v : s) mean += v / static_cast<double>(s.size());
+  for (double& v : s) v -= mean;
+  return s;
+}
+
+}  // namespace
+
+double measured_exemplar_span(const Image& atlas, const UVMesh& mesh, const Exemplar& exemplar, double expected) {
+  const std::vector<char> mask = chart_mask(mesh, atlas.width);
+  const double density = texel_density(mesh, atlas.width);
+  if (!(density > 0.0) || !(expected > 0.0)) return std::nan("");
+  for (int n : {64, 32, 16}) {
+    const auto windows = chart_windows(mask, atlas.width, n, 64);
+    if (windows.empty()) continue;
+    std::vector<double> shown(static_cast<std::size_t>(n / 2 - 1), 0.0);
+    for (const auto& [x, y] : windows) {
+      const std::vector<double> s = radial_log_spectrum(atlas, x, y, n);
+      for (std::size_t b = 0; b < s.size(); ++b) shown[b] += s[b] / static_cast<double>(windows.size());
+    }
+    shown = shape_of(std::move(shown));
+    // Spans expected · 4^(k/24 − 1), k = 0 .. 48: steps of 5.9 %.
+    constexpr int kSteps = 48;
+    const double log_step = std::log(4.0) / (kSteps / 2);
+    auto log_span = [&](double k) { return std::log(expected) + log_step * (k - kSteps / 2); };
+    std::vector<double> distance(kSteps + 1);
+    for (int k = 0; k <= kSteps; ++k) {
+      const double scale = exemplar.image().width / (std::exp(log_span(k)) * density);
+      distance[static_cast<std::size_t>(k)] = spectrum_distance(shown, shape_of(exemplar_spectrum(exemplar, scale, n)));
+    }
+    const int best = static_cast<int>(std::min_element(distance.begin(), distance.end()) - distance.begin());
+    double offset = 0.0;  // the parabola's vertex through the best step and its neighbours
+    if (best > 0 && best < kSteps) {
+      const double a = distance[best - 1], b = distance[best], c = distance[best + 1];
+      const double curvature = a - 2.0 * b + c;
+      if (curvature > 0.0) offset = std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5);
+    }
+    return std::exp(log_span(best + offset));
+  }
+  return std::nan("");
+}
+
 }  // namespace fluidtex

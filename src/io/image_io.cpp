@@ -39,24 +39,6 @@ namespace {
 
 double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
-/// OIIO error messages may span several lines; errors here are one line.
-std::string one_line(const std::string& message) {
-  std::string out;
-  size_t start = 0;
-  while (start <= message.size()) {
-    size_t end = message.find('\n', start);
-    if (end == std::string::npos) end = message.size();
-    std::string part = message.substr(start, end - start);
-    while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back()))) part.pop_back();
-    if (!part.empty() && out.find(part) == std::string::npos) {
-      if (!out.empty()) out += "; ";
-      out += part;
-    }
-    start = end + 1;
-  }
-  return out;
-}
-
 bool is_float_type(OIIO::TypeDesc t) {
   return t.basetype == OIIO::TypeDesc::HALF || t.basetype == OIIO::TypeDesc::FLOAT ||
          t.basetype == OIIO::TypeDesc::DOUBLE;
@@ -107,8 +89,10 @@ T quantise(float v, bool srgb, const std::vector<float>& thresholds, int max_cod
   return static_cast<T>(std::lround(static_cast<double>(v) * max_code));
 }
 
+/// Integer code values of `image`: colour channels sRGB-encoded when
+/// `srgb` (else, as alpha always, quantised linearly).
 template <typename T>
-std::vector<T> encode_integer(const Image& image, int alpha, int max_code) {
+std::vector<T> encode_integer(const Image& image, int alpha, int max_code, bool srgb) {
   const std::vector<float> thresholds = srgb_thresholds(max_code);
   std::vector<T> out(image.pixels.size());
   const size_t row = static_cast<size_t>(image.width) * image.channels;
@@ -116,7 +100,7 @@ std::vector<T> encode_integer(const Image& image, int alpha, int max_code) {
     const size_t base = static_cast<size_t>(y) * row;
     for (size_t i = 0; i < row; ++i) {
       const int c = static_cast<int>(i % image.channels);
-      out[base + i] = quantise<T>(image.pixels[base + i], c != alpha, thresholds, max_code);
+      out[base + i] = quantise<T>(image.pixels[base + i], srgb && c != alpha, thresholds, max_code);
     }
   });
   return out;
@@ -225,16 +209,43 @@ class StderrCapture {
 
 Image decode_image(const std::string& path, long long max_pixels, OIIO::ImageSpec& spec);
 void linearise(Image& image, const OIIO::ImageSpec& spec);
+Image read_spec_and_pixels(const std::string& path, long long max_pixels, OIIO::ImageSpec& spec);
 
 }  // namespace
 
 Image read_image(const std::string& path, long long max_pixels) {
+  OIIO::ImageSpec spec;
+  Image image = read_spec_and_pixels(path, max_pixels, spec);
+  linearise(image, spec);
+  return image;
+}
+
+StoredImage read_stored_image(const std::string& path, long long max_pixels) {
+  OIIO::ImageSpec spec;
+  StoredImage stored;
+  stored.image = read_spec_and_pixels(path, max_pixels, spec);
+  // OpenImageIO reads every EXR as "Linear": an EXR names its space in a
+  // `colorspace` attribute (as write_image writes it).
+  stored.color_space = spec.get_string_attribute("colorspace");
+  if (stored.color_space.empty()) stored.color_space = spec.get_string_attribute("oiio:ColorSpace");
+  stored.alpha = alpha_index(spec);
+  float gamma = 1.0f;
+  const Transfer transfer = transfer_of(spec, &gamma);
+  const std::string tag = to_lower(stored.color_space);
+  stored.rules_apply = tag.empty() || transfer != Transfer::Linear || tag.find("linear") != std::string::npos ||
+                       tag == "lin_srgb" || tag == "lin_rec709" || tag == "raw";
+  return stored;
+}
+
+namespace {
+
+/// The file's spec and its pixels as stored (float), through read_image's checks.
+Image read_spec_and_pixels(const std::string& path, long long max_pixels, OIIO::ImageSpec& spec) {
   try {
     require_regular_file(path, "the file");
   } catch (const InputError& e) {
     throw InputError(path, "cannot read image: " + e.problem());
   }
-  OIIO::ImageSpec spec;
   Image image;
   if (lower_extension(path) != ".png") {
     image = decode_image(path, max_pixels, spec);
@@ -251,11 +262,8 @@ Image read_image(const std::string& path, long long max_pixels) {
       throw InputError(path, e.problem() + " (" + printed + ")");
     }
   }
-  linearise(image, spec);
   return image;
 }
-
-namespace {
 
 /// The pixels as stored (float), and the file's spec.
 Image decode_image(const std::string& path, long long max_pixels, OIIO::ImageSpec& spec) {
@@ -369,7 +377,11 @@ OIIO::ImageSpec output_spec(const std::string& path, Format format, OIIO::TypeDe
     if (n == "a" || n == "alpha") spec.alpha_channel = c;
   }
   const bool integer = !is_float_type(type);
-  spec.attribute("oiio:ColorSpace", options.data ? "Raw" : integer ? "sRGB" : "Linear");
+  const bool managed = !options.data && !options.color_space.empty();
+  spec.attribute("oiio:ColorSpace", options.data ? "Raw" : managed ? options.color_space : integer ? "sRGB" : "Linear");
+  // OpenImageIO 2.4 keeps no oiio:ColorSpace in an EXR: the name goes in a
+  // `colorspace` attribute too.
+  if (managed) spec.attribute("colorspace", options.color_space);
   spec.attribute("oiio:UnassociatedAlpha", 1);
   // Byte-identical outputs for golden-file diffs: a constant Software tag (the
   // caller's metadata says which build), and an empty DateTime, which stops
@@ -381,7 +393,7 @@ OIIO::ImageSpec output_spec(const std::string& path, Format format, OIIO::TypeDe
     case Format::Exr: {
       // Linear values with Rec. 709 / sRGB primaries and a D65 white: what
       // the exemplars are linearised to (x, y of red, green, blue, white).
-      if (!integer && !options.data) {
+      if (!integer && !options.data && !managed) {
         static const float rec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
         spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709);
       }
@@ -417,6 +429,8 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
   }
 
   const OIIO::ImageSpec spec = output_spec(path, format, type, image, options);
+  // Colour in an OpenColorIO space is already encoded as that space says.
+  const bool srgb = options.data || options.color_space.empty();
 
   if (options.layout != TextureLayout::Scanline) {
     write_texture(path, image, spec, type, options.layout);
@@ -429,10 +443,10 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
       throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
     bool ok = false;
     if (type == OIIO::TypeDesc::UINT8) {
-      const auto data = encode_integer<std::uint8_t>(image, spec.alpha_channel, 255);
+      const auto data = encode_integer<std::uint8_t>(image, spec.alpha_channel, 255, srgb);
       ok = out->write_image(OIIO::TypeDesc::UINT8, data.data());
     } else if (type == OIIO::TypeDesc::UINT16) {
-      const auto data = encode_integer<std::uint16_t>(image, spec.alpha_channel, 65535);
+      const auto data = encode_integer<std::uint16_t>(image, spec.alpha_channel, 65535, srgb);
       ok = out->write_image(OIIO::TypeDesc::UINT16, data.data());
     } else {
       ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());

@@ -10,13 +10,16 @@
 #include "fluidtex/job/frame_layers.h"
 #include "fluidtex/texture/atlas.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 #include "fluidtex/util/timing.h"
 #include "fluidtex/util/version.h"
 
 namespace fluidtex {
 
-Exemplar load_exemplar(const std::string& path, bool displacement) {
-  Image image = read_image(path);
+Exemplar load_exemplar(const std::string& path, bool displacement, const ColorSpaces& colors, std::string* warning) {
+  std::string said;
+  Image image = displacement ? read_image(path) : colors.read_exemplar(path, said);
+  if (warning) *warning = said;
   if (displacement && image.channels >= 3) {
     Image grey;
     grey.width = image.width, grey.height = image.height, grey.channels = 1;
@@ -36,6 +39,12 @@ Exemplar load_exemplar(const std::string& path, bool displacement) {
   return Exemplar(std::move(image));
 }
 
+TextureSource load_texture_source(const JobOptions& options, std::string* warning) {
+  ColorSpaces colors(options.synthesis.color);
+  Exemplar exemplar = load_exemplar(options.exemplar, options.synthesis.displacement, colors, warning);
+  return TextureSource{std::move(colors), std::move(exemplar)};
+}
+
 SynthesisOptions synthesis_options(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
   SynthesisOptions synth;
   synth.blend = so.blend;
@@ -43,12 +52,17 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   synth.weight_cutoff = so.weight_cutoff;
   synth.uv_scale = resolved.uv_scale;
   synth.radius = resolved.d();
-  // One exemplar tile spans (2 + β)·d at s = 1: a patch's disk shows most of
-  // a tile, each patch a different part of it (its random anchor).
-  synth.tile_size = resolved.exemplar_tile_size();
+  // One exemplar tile spans (2 + β)·d at s = 1 unless --exemplar-size says:
+  // a patch's disk shows most of a tile, each patch a different part of it
+  // (its random anchor).
+  synth.tile_size = resolved.exemplar_tile_size(so.exemplar_size);
   synth.projection_tolerance = resolved.mpt();  // as the tracker's coverage test
   synth.aov = !so.aov.empty();
   return synth;
+}
+
+double exemplar_span(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
+  return resolved.exemplar_tile_size(so.exemplar_size) / resolved.uv_scale;
 }
 
 namespace {
@@ -74,12 +88,31 @@ MaterialMaps write_frame_layers(const JobOptions& options, int frame, const Fram
   return maps;
 }
 
+/// How frame `frame`'s colour atlas is written: depth, compression, layout,
+/// where it comes from (metadata) and, managed, the output colour space
+/// (a height atlas, --displacement, is data: never converted).
+ImageWriteOptions atlas_write_options(const JobOptions& options, int frame, double tile_size,
+                                      const ColorSpaces& colors) {
+  const SynthesisJobOptions& so = options.synthesis;
+  ImageWriteOptions write;
+  write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
+  write.compression = so.compression;
+  write.dwa_level = so.dwa_level;
+  write.layout = so.layout;
+  write.metadata = {{"fluidtex:version", version_line()},
+                    {"fluidtex:frame", std::to_string(frame)},
+                    {"fluidtex:settings", options.output.provenance},
+                    {"fluidtex:exemplarSize", format_number(tile_size / options.tracking.uv_scale)}};
+  if (colors.managed() && !so.displacement) write.color_space = colors.output();
+  return write;
+}
+
 /// A frame's atlas, texel map, texels (`texels(atlas, map)`, either method)
 /// and writes, with the synthesis numbers and stage seconds in `stats`.
 /// `tile_size`: the exemplar's size on the surface (--bump-height's unit).
 template <class Texels>
-void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int frame, FrameStats& stats, double tile_size,
-                 Texels&& texels) {
+void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, const ColorSpaces& colors, int frame,
+                 FrameStats& stats, double tile_size, Texels&& texels) {
   const SynthesisJobOptions& so = options.synthesis;
   auto t0 = Clock::now();
   const Atlas atlas = build_atlas(surface, so.atlas);
@@ -97,15 +130,9 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
   }
 
   t0 = Clock::now();
-  ImageWriteOptions write;
-  write.depth = so.float_output ? PixelDepth::Float : PixelDepth::Default;
-  write.compression = so.compression;
-  write.dwa_level = so.dwa_level;
-  write.layout = so.layout;
-  write.metadata = {{"fluidtex:version", version_line()},
-                    {"fluidtex:frame", std::to_string(frame)},
-                    {"fluidtex:settings", options.output.provenance}};
-  write_image(FramePattern(options.output.atlas()).path(frame), result.color, write);
+  const ImageWriteOptions write = atlas_write_options(options, frame, tile_size, colors);
+  write_image(FramePattern(options.output.atlas()).path(frame),
+              write.color_space.empty() ? result.color : colors.to_output(result.color), write);
   // An OBJ names its atlas through a material (<stem>.mtl, map_Kd; disp,
   // bump and norm for the height and normal atlases), so a DCC imports it
   // textured.
@@ -129,17 +156,19 @@ void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, int fra
 }  // namespace
 
 void synthesize_frame(const SurfaceIndex& surface, const std::vector<Patch>& patches, const TrackingOptions& resolved,
-                      const Exemplar& exemplar, const JobOptions& options, int frame, FrameStats& stats) {
-  atlas_frame(
-      surface, options, frame, stats, resolved.exemplar_tile_size(), [&](const Atlas& atlas, const TexelMap& map) {
-        return synthesize(surface, atlas, map, patches, exemplar, synthesis_options(resolved, options.synthesis));
-      });
+                      const TextureSource& source, const JobOptions& options, int frame, FrameStats& stats) {
+  atlas_frame(surface, options, source.colors, frame, stats,
+              resolved.exemplar_tile_size(options.synthesis.exemplar_size),
+              [&](const Atlas& atlas, const TexelMap& map) {
+                return synthesize(surface, atlas, map, patches, source.exemplar,
+                                  synthesis_options(resolved, options.synthesis));
+              });
 }
 
-void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const Exemplar& exemplar,
+void synthesize_flowmap_frame(const SurfaceIndex& surface, const FlowMapFrame& flow, const TextureSource& source,
                               const JobOptions& options, int frame, FrameStats& stats, double tile_size) {
-  atlas_frame(surface, options, frame, stats, tile_size, [&](const Atlas& atlas, const TexelMap& map) {
-    return synthesize_flowmap(surface, atlas, map, flow, exemplar, options.synthesis.blend,
+  atlas_frame(surface, options, source.colors, frame, stats, tile_size, [&](const Atlas& atlas, const TexelMap& map) {
+    return synthesize_flowmap(surface, atlas, map, flow, source.exemplar, options.synthesis.blend,
                               !options.synthesis.aov.empty());
   });
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 
@@ -11,6 +13,7 @@
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/util/atomic_file.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 #include "fluidtex/util/version.h"
 
 namespace fluidtex {
@@ -104,7 +107,10 @@ std::string job_record_toml(const JobRecord& record) {
          "version=" +
          d::toml_string("version", record.version) +
          "\nexemplar-sha1=" + d::toml_string("exemplar-sha1", record.exemplar_sha1) +
-         "\nframes=" + d::toml_string("frames", format_frame_range(record.frames)) + "\n";
+         "\nframes=" + d::toml_string("frames", format_frame_range(record.frames)) + "\n" +
+         (record.exemplar_size ? "# Scene units one exemplar tile spans on the surface.\nexemplar-size=" +
+                                     format_number(*record.exemplar_size) + "\n"
+                               : std::string());
 }
 
 JobRecord read_job_record(const std::string& run_dir) {
@@ -122,6 +128,12 @@ JobRecord read_job_record(const std::string& run_dir) {
       record.version = value;
     } else if (e.name == "exemplar-sha1") {
       record.exemplar_sha1 = value;
+    } else if (e.name == "exemplar-size") {
+      char* end = nullptr;
+      const double size = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(size > 0.0) || !std::isfinite(size))
+        throw InputError(path, "[job] exemplar-size: '" + value + "' is not a length > 0");
+      record.exemplar_size = size;
     } else if (e.name == "frames") {
       try {
         record.frames = parse_frame_range(value);

@@ -68,8 +68,8 @@ class Texturing {
 class PatchTexturing final : public Texturing {
  public:
   /// `resumed_state`: the state file the tracker was loaded from (empty when fresh).
-  PatchTexturing(Tracker tracker, const JobOptions& options, const Exemplar* exemplar, std::string resumed_state)
-      : tracker_(std::move(tracker)), options_(options), exemplar_(exemplar), write_state_(options.output.write_state),
+  PatchTexturing(Tracker tracker, const JobOptions& options, const TextureSource* source, std::string resumed_state)
+      : tracker_(std::move(tracker)), options_(options), source_(source), write_state_(options.output.write_state),
         resumed_(!resumed_state.empty()), last_state_(std::move(resumed_state)) {}
 
   void track(Work& work, double dt, bool first, Reporter& reporter) override {
@@ -128,8 +128,8 @@ class PatchTexturing final : public Texturing {
       work.packed_state = Tracker::pack_state(work.state);
       work.state = {};
     }
-    if (exemplar_) {
-      synthesize_frame(*work.surface, work.patches, work.resolved, *exemplar_, options_, work.frame, work.stats);
+    if (source_) {
+      synthesize_frame(*work.surface, work.patches, work.resolved, *source_, options_, work.frame, work.stats);
       return;
     }
     // Track only: coverage measured on the surface (area with Σw = 0).
@@ -203,7 +203,7 @@ class PatchTexturing final : public Texturing {
 
   Tracker tracker_;
   const JobOptions& options_;
-  const Exemplar* exemplar_;
+  const TextureSource* source_;  // null: track only
   bool write_state_;
   bool resumed_;                    // the tracker comes from a state: its radius from an earlier run's first frame
   mutable std::string last_state_;  // finish() runs serially, in frame order
@@ -218,8 +218,8 @@ class PatchTexturing final : public Texturing {
 /// sets to the frame; it keeps no state.
 class FlowMapTexturing final : public Texturing {
  public:
-  FlowMapTexturing(const JobOptions& options, const Exemplar& exemplar)
-      : advector_(settings(options)), options_(options), exemplar_(exemplar) {}
+  FlowMapTexturing(const JobOptions& options, const TextureSource& source)
+      : advector_(settings(options)), options_(options), source_(source) {}
 
   void track(Work& work, double dt, bool first, Reporter& reporter) override {
     const FlowMapStep step = advector_.step(work.mesh, dt);
@@ -237,7 +237,7 @@ class FlowMapTexturing final : public Texturing {
   }
 
   void texture(Work& work) const override {
-    synthesize_flowmap_frame(*work.surface, work.flow, exemplar_, options_, work.frame, work.stats,
+    synthesize_flowmap_frame(*work.surface, work.flow, source_, options_, work.frame, work.stats,
                              advector_.tile_size());
   }
 
@@ -248,13 +248,14 @@ class FlowMapTexturing final : public Texturing {
     FlowMapSettings fm;
     fm.flowmap = options.flowmap;
     fm.tracking = options.tracking;
+    fm.exemplar_size = options.synthesis.exemplar_size;
     fm.seed = options.seed;
     return fm;
   }
 
   FlowMapAdvector advector_;
   const JobOptions& options_;
-  const Exemplar& exemplar_;
+  const TextureSource& source_;
 };
 
 /// The patch method's tracker: from the newest state in OUT with --resume
@@ -379,6 +380,29 @@ void report_frame_rate(const Sequence& sequence, Reporter& reporter) {
   }
 }
 
+/// Says what one exemplar tile spans on the surface (exemplar_span) and
+/// returns it: from --exemplar-size, else (2 + β)·d over s, d from --radius
+/// or, as the tracker and the flow map resolve it, from the first frame's
+/// size (read here once more).
+double report_exemplar_span(const JobOptions& options, const Sequence& sequence, Reporter& reporter) {
+  const bool from_first_frame = !options.synthesis.exemplar_size && !options.tracking.radius;
+  const TrackingOptions resolved =
+      options.tracking.resolved(from_first_frame ? bounding_box(sequence.load(0)).diagonal() : 0.0);
+  const double span = exemplar_span(resolved, options.synthesis);
+  char text[160];
+  if (options.synthesis.exemplar_size) {
+    std::snprintf(text, sizeof text, "one exemplar tile spans %.4g scene units on the surface (--exemplar-size)", span);
+  } else {
+    std::snprintf(text, sizeof text,
+                  "one exemplar tile spans %.4g scene units on the surface (auto: %.3g x radius %.4g%s; "
+                  "--exemplar-size sets it)",
+                  span, resolved.exemplar_tile_size() / (resolved.d() * resolved.uv_scale), resolved.d(),
+                  from_first_frame ? ", from the first frame's size" : "");
+  }
+  reporter.info(text);
+  return span;
+}
+
 /// Which frames of `sequence` (the frames stepped through) are written:
 /// those of `written_frames`, not the ones a stepped range only follows.
 std::vector<char> written_flags(const Sequence& sequence, const Sequence& written_frames) {
@@ -394,12 +418,12 @@ std::vector<char> written_flags(const Sequence& sequence, const Sequence& writte
 /// (`first`: the index of the first frame to make, `summary.resumed_after`).
 std::unique_ptr<Texturing> start_texturing(const JobOptions& options, const JobOptions& stamped,
                                            const Sequence& sequence, const std::vector<char>& written,
-                                           const std::optional<Exemplar>& exemplar, Reporter& reporter,
+                                           const std::optional<TextureSource>& source, Reporter& reporter,
                                            std::size_t& first, JobSummary& summary) {
-  if (options.method == TexturingMethod::FlowMap) return std::make_unique<FlowMapTexturing>(stamped, *exemplar);
+  if (options.method == TexturingMethod::FlowMap) return std::make_unique<FlowMapTexturing>(stamped, *source);
   std::string resumed_state;
   Tracker tracker = start_tracker(options, sequence, written, reporter, first, summary, resumed_state);
-  return std::make_unique<PatchTexturing>(std::move(tracker), stamped, exemplar ? &*exemplar : nullptr,
+  return std::make_unique<PatchTexturing>(std::move(tracker), stamped, source ? &*source : nullptr,
                                           std::move(resumed_state));
 }
 
@@ -514,15 +538,20 @@ JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
                   " written (--skipped-frames follow)");
   }
   const std::vector<char> written = written_flags(sequence, written_frames);
-  std::optional<Exemplar> exemplar;  // read once, before any output (fails early when unreadable)
-  if (!options.synthesis.track_only) exemplar.emplace(load_exemplar(options.exemplar, options.synthesis.displacement));
-  const JobRecord record = claim_job(options, written_frames, reporter);
+  std::optional<TextureSource> source;  // read once, before any output (fails early when unreadable)
+  if (!options.synthesis.track_only) {
+    std::string warning;
+    source.emplace(load_texture_source(options, &warning));
+    if (!warning.empty()) reporter.warn(warning);
+  }
+  JobRecord record = claim_job(options, written_frames, reporter);
+  if (source) record.exemplar_size = report_exemplar_span(options, sequence, reporter);
   JobOptions stamped = options;  // what the frames are written with
   stamped.output.provenance = settings_hash(record);
   std::size_t first = 0;
   JobSummary summary;
   const std::unique_ptr<Texturing> method =
-      start_texturing(options, stamped, sequence, written, exemplar, reporter, first, summary);
+      start_texturing(options, stamped, sequence, written, source, reporter, first, summary);
   RunFrames frames(options, sequence, written, *method, first, summary, reporter);
   write_text_atomically(job_record_path(options.output.dir), job_record_toml(record));
   frames.run();

@@ -137,7 +137,9 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
   const std::vector<int> wanted = request.frames.empty() ? record.frames : parse_frame_range(request.frames);
   const std::vector<int> todo = frames_to_synthesise(record, options, wanted, request, reporter);
   const Sequence sequence = Sequence(options.input).followed();  // read as the run read it
-  const Exemplar exemplar = load_exemplar(options.exemplar, options.synthesis.displacement);
+  std::string warning;
+  const TextureSource source = load_texture_source(options, &warning);
+  if (!warning.empty()) reporter.warn(warning);
 
   const std::string stats_path = synth_stats_path(request.dir, wanted);
   remove_own_temporaries(options, todo, stats_path, reporter);
@@ -162,7 +164,7 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
       tracker.emplace(Tracker::load(state_path(request.dir, frame), work.mesh));
     }
     work.stats.patches = count_states(tracker->patches());
-    synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().tracking, exemplar, options, frame,
+    synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().tracking, source, options, frame,
                      work.stats);
   };
   auto write = [&](SynthWork& work) {

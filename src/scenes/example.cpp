@@ -31,7 +31,7 @@ ExampleFiles write_example(const ExampleRequest& request) {
   files.frame_pattern = write_scene(request.scene, request.dir, request.scene_options);
   if (!request.exemplar.empty()) {
     files.exemplar = request.dir + "/" + request.exemplar + ".png";
-    write_image(files.exemplar, make_exemplar(request.exemplar, request.exemplar_size, request.seed));
+    write_image(files.exemplar, make_exemplar(request.exemplar, request.exemplar_pixels, request.seed));
   }
   return files;
 }

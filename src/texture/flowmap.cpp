@@ -89,7 +89,7 @@ FlowMapStep FlowMapAdvector::step(std::shared_ptr<const FrameMesh> mesh, double 
   std::shared_ptr<const SurfaceIndex> surface(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
   if (steps_ == 0) {
     settings_.tracking = settings_.tracking.resolved(bounding_box(*mesh).diagonal());
-    tile_size_ = settings_.tracking.exemplar_tile_size();
+    tile_size_ = settings_.tracking.exemplar_tile_size(settings_.exemplar_size);
     if (!(tile_size_ > 0.0) || !std::isfinite(tile_size_)) {
       throw InputError("", "flowmap: the first frame is degenerate (zero bounding box): no texture scale");
     }

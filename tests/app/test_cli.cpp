@@ -34,7 +34,7 @@ std::string q(const std::string& s) { return "'" + s + "'"; }
 std::string rotation_run(const test::TempDir& dir, int frames, int resolution, int exemplar_size, int atlas_size) {
   std::string out;
   EXPECT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) + " --frames " + std::to_string(frames) + " --resolution " +
-                             std::to_string(resolution) + " --exemplar gravel --exemplar-size " +
+                             std::to_string(resolution) + " --exemplar gravel --exemplar-pixels " +
                              std::to_string(exemplar_size),
                          &out),
             0)
@@ -107,12 +107,20 @@ TEST(Cli, InfoReportsABadFrameAndExits2) {
   EXPECT_EQ(run_fluidtex("info -i " + q(dir.file("rotation.####.ply")), &out), 2);
   EXPECT_NE(out.find("rotation.0003.ply"), std::string::npos) << out;
   EXPECT_NE(out.find("ERROR"), std::string::npos) << out;
+  EXPECT_NE(out.find("texture size: by default one exemplar tile spans 0.3667 scene units (2.6 x --radius 0.141"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("set --exemplar-size (e.g. 0.37)"), std::string::npos) << out;
   // --json: one document, the same facts for scripts.
   EXPECT_EQ(run_fluidtex("info --json -i " + q(dir.file("rotation.####.ply")), &out), 2);
   EXPECT_TRUE(out.starts_with("{\"sequence\":\"" + dir.file("rotation.####.ply") +
                               "\",\"fps\":24,\"fps_source\":\"header\",\"frames\":[{"))
       << out;
-  EXPECT_TRUE(out.ends_with("],\"errors\":1}\n")) << out;
+  // The texture's default size on the sequence (from the first frame: the
+  // radius 5 % of its diagonal, the tile 2.6 times that), and the value
+  // suggested for --exemplar-size.
+  EXPECT_NE(out.find("],\"errors\":1,\"texture_scale\":{\"radius\":"), std::string::npos) << out;
+  EXPECT_TRUE(out.ends_with("\"suggested_exemplar_size\":0.37}}\n")) << out;
   EXPECT_NE(out.find("{\"frame\":1,\"path\":"), std::string::npos) << out;
   EXPECT_NE(out.find("\"error\":null,\"vertices\":"), std::string::npos) << out;
   EXPECT_NE(out.find("{\"frame\":3,\"path\":\"" + dir.file("rotation.0003.ply") + "\",\"error\":\""), std::string::npos)
@@ -289,7 +297,7 @@ TEST(Cli, RunWritesEveryOutputPerFrame) {
   std::string out;
   ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) +
                              " --frames 3 --resolution 16 --exemplar gravel "
-                             "--exemplar-size 64",
+                             "--exemplar-pixels 64",
                          &out),
             0)
       << out;
@@ -386,7 +394,7 @@ TEST(Cli, TheFrameRateIsTheOneTheInputStatesUnlessGiven) {
   test::TempDir dir;
   std::string out;
   ASSERT_EQ(run_fluidtex("gen rotation -o " + q(dir.str()) +
-                             " --frames 3 --resolution 12 --fps 12 --exemplar gravel --exemplar-size 32",
+                             " --frames 3 --resolution 12 --fps 12 --exemplar gravel --exemplar-pixels 32",
                          &out),
             0)
       << out;
@@ -430,8 +438,8 @@ TEST(Cli, AStepRangeFollowsTheFramesItSkips) {
   test::TempDir dir;
   std::string out;
   ASSERT_EQ(
-      run_fluidtex("gen merge -o " + q(dir.str()) + " --frames 7 --resolution 20 --exemplar gravel --exemplar-size 32",
-                   &out),
+      run_fluidtex(
+          "gen merge -o " + q(dir.str()) + " --frames 7 --resolution 20 --exemplar gravel --exemplar-pixels 32", &out),
       0)
       << out;
   const std::string base =

@@ -38,7 +38,7 @@ start=$SECONDS
 "$root/scripts/slurm/local_cluster.sh" start "$tmp/cluster"
 export SLURM_CONF=$tmp/cluster/slurm.conf
 
-"$exe" gen rotation -o "$tmp/scene" --frames 6 --resolution 16 --exemplar gravel --exemplar-size 32 >/dev/null
+"$exe" gen rotation -o "$tmp/scene" --frames 6 --resolution 16 --exemplar gravel --exemplar-pixels 32 >/dev/null
 options=(-i "$tmp/scene/rotation.####.ply" -e "$tmp/scene/gravel.png" --atlas-size 128 --seed 5 --aov weight)
 "$exe" run -q "${options[@]}" -o "$tmp/one"
 # Submitted from another folder: the script and the nodes use absolute paths.
@@ -121,7 +121,7 @@ grep -qE 'synthesis task [0-9_-]+: CANCELLED \(exit [^,]*, DependencyNeverSatisf
   fail "no line names the cancelled synthesis tasks: $out"
 
 # Preempted while tracking: requeued as soon as it has written a state.
-"$exe" gen rotation -o "$tmp/long" --frames 12 --resolution 40 --exemplar gravel --exemplar-size 32 >/dev/null
+"$exe" gen rotation -o "$tmp/long" --frames 12 --resolution 40 --exemplar gravel --exemplar-pixels 32 >/dev/null
 long=(-i "$tmp/long/rotation.####.ply" -e "$tmp/long/gravel.png" --atlas-size 64 --radius 0.05 --seed 3)
 "$exe" run -q "${long[@]}" -o "$tmp/long-one"
 env -u FLUIDTEX "$root/scripts/slurm/submit.sh" -o "$tmp/requeue" --frames 1-12 --frames-per-task 6 --cpus 1 --wait \

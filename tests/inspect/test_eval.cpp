@@ -18,7 +18,7 @@ TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   test::TempDir dir;
   const std::string scene = dir.file("scene");
   ASSERT_EQ(test::run_fluidtex("gen rotation -o " + scene +
-                               " --frames 5 --resolution 24 --exemplar gravel --exemplar-size 64"),
+                               " --frames 5 --resolution 24 --exemplar gravel --exemplar-pixels 64"),
             0);
   const std::string out = dir.file("out");
   const std::string input = scene + "/rotation.####.ply";
@@ -58,7 +58,7 @@ TEST(Eval, CheckPassesARunAndFailsAStillTexture) {
   test::TempDir dir;
   const std::string scene = dir.file("scene");
   ASSERT_EQ(test::run_fluidtex("gen rotation -o " + scene +
-                               " --frames 5 --resolution 24 --exemplar gravel --exemplar-size 64"),
+                               " --frames 5 --resolution 24 --exemplar gravel --exemplar-pixels 64"),
             0);
   const std::string good = dir.file("good"), still = dir.file("still");
   ASSERT_EQ(test::run_fluidtex("run -q -i '" + scene + "/rotation.####.ply' -e " + scene + "/gravel.png -o " + good +
@@ -111,9 +111,9 @@ TEST(Eval, AStepRunIsMeasuredThroughTheFramesItSkipsAndPerFrame) {
   // in place.
   test::TempDir dir;
   const std::string scene = dir.file("scene");
-  ASSERT_EQ(
-      test::run_fluidtex("gen merge -o " + scene + " --frames 5 --resolution 20 --exemplar gravel --exemplar-size 32"),
-      0);
+  ASSERT_EQ(test::run_fluidtex("gen merge -o " + scene +
+                               " --frames 5 --resolution 20 --exemplar gravel --exemplar-pixels 32"),
+            0);
   const std::string out = dir.file("out"), input = scene + "/merge.####.ply";
   ASSERT_EQ(test::run_fluidtex("run -i '" + input + "' -e " + scene + "/gravel.png -o " + out +
                                " --atlas-size 128 --frames 1-5x2 -q"),

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "fluidtex/inspect/texture_metrics.h"
 #include "fluidtex/scenes/exemplar_gen.h"
+#include "fluidtex/texture/atlas.h"
+#include "fluidtex/texture/synthesis.h"
 #include "fluidtex/util/error.h"
 #include "mesh_fixtures.h"
 #include "synthesis_fixtures.h"
@@ -96,6 +99,28 @@ TEST(TextureMetrics, ChartWindowsLieInsideTheCharts) {
   const auto few = chart_windows(mask, 64, 16, 5);
   ASSERT_EQ(few.size(), 5u);
   EXPECT_EQ(few, chart_windows(mask, 64, 16, 5));
+}
+
+TEST(TextureMetrics, TheExemplarSpanIsMeasuredFromTheAtlasThroughTheUvMesh) {
+  // The unit square shows the exemplar at a known tile size, by one patch
+  // and by four rotated patches blended (Eq. 7); the measure finds the tile
+  // size from the atlas and the UV mesh alone, from a guess 1.6 times off.
+  const Exemplar exemplar(make_exemplar("gravel", 128, 3));
+  for (const double tile : {0.2, 0.45}) {
+    for (const int patches : {1, 4}) {
+      SCOPED_TRACE("tile " + std::to_string(tile) + ", " + std::to_string(patches) + " patches");
+      test::OnePatch scene(512);
+      for (int k = 0; k < patches; ++k) scene.add(Vec2(0.13 * k + 0.05, 0.29 * k + 0.1), 1.0, 0.9 * k);
+      SynthesisOptions so;
+      so.tile_size = tile;
+      so.radius = 1e3;
+      const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
+      const UVMesh mesh = atlas_uv_mesh(scene.surface, scene.atlas);
+      EXPECT_NEAR(measured_exemplar_span(r.color, mesh, exemplar, 1.6 * tile) / tile, 1.0, 0.08);
+      EXPECT_NEAR(measured_exemplar_span(r.color, mesh, exemplar, tile / 1.6) / tile, 1.0, 0.08);
+    }
+  }
+  EXPECT_TRUE(std::isnan(measured_exemplar_span(Image::blank(64, 64, 3), UVMesh{}, exemplar, 0.3)));
 }
 
 }  // namespace

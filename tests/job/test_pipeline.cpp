@@ -1,12 +1,16 @@
 // A run's outputs (job/pipeline.h): atlases name their colour space, build,
 // frame and settings; no output of another job survives a run; off a
 // terminal every frame logs one line; a frame whose state cannot be written
-// leaves nothing; a liquid that grows from a small start is warned of.
+// leaves nothing; a liquid that grows from a small start is warned of; the
+// same --exemplar-size gives scenes of any extent the same texture size.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -14,12 +18,20 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "color_fixtures.h"
 #include "farm_fixtures.h"
+#include "fluidtex/inspect/texture_metrics.h"
+#include "fluidtex/inspect/textured_frame.h"
 #include "fluidtex/io/frame_pattern.h"
+#include "fluidtex/io/image_io.h"
+#include "fluidtex/io/uv_mesh_io.h"
+#include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/job/pipeline.h"
+#include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/scenes/scenes.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 #include "fluidtex/util/version.h"
 #include "mesh_fixtures.h"
 #include "test_util.h"
@@ -38,7 +50,8 @@ std::map<std::string, std::string> atlas_metadata(const std::string& path) {
   std::map<std::string, std::string> out;
   if (!in) return out;
   const OIIO::ImageSpec& spec = in->spec();
-  for (const char* name : {"oiio:ColorSpace", "Software", "fluidtex:version", "fluidtex:frame", "fluidtex:settings"})
+  for (const char* name : {"oiio:ColorSpace", "Software", "fluidtex:version", "fluidtex:frame", "fluidtex:settings",
+                           "fluidtex:exemplarSize"})
     out[name] = spec.get_string_attribute(name);
   if (const OIIO::ParamValue* p = spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8))) {
     const float* c = static_cast<const float*>(p->data());
@@ -73,10 +86,90 @@ TEST(Pipeline, AtlasesNameTheirColourSpaceBuildFrameAndSettings) {
   ASSERT_EQ(run_fluidtex("synth -q -o " + q(dir.file("c")), &out), 0) << out;
   EXPECT_EQ(atlas_metadata(dir.file("c/atlas.0001.exr"))["fluidtex:settings"],
             atlas_metadata(dir.file("a/atlas.0001.exr"))["fluidtex:settings"]);
+  // The exemplar's size on the surface, as job.toml records it, in every
+  // atlas, through synth too.
+  const std::optional<double> span = read_job_record(dir.file("a")).exemplar_size;
+  ASSERT_TRUE(span);
+  EXPECT_EQ(meta["fluidtex:exemplarSize"], format_number(*span));
+  EXPECT_EQ(atlas_metadata(dir.file("c/atlas.0001.exr"))["fluidtex:exemplarSize"], format_number(*span));
   const std::string reseeded = "run -q -i " + q(dir.file("rotation.####.ply")) + " -e " + q(dir.file("ex.png")) +
                                " --aov weight --atlas-size 128 --seed 4 ";
   ASSERT_EQ(run_fluidtex(reseeded + "-o " + q(dir.file("d")) + " --frames 1-2", &out), 0) << out;
   EXPECT_NE(atlas_metadata(dir.file("d/atlas.0002.exr"))["fluidtex:settings"], settings);
+}
+
+TEST(Pipeline, TheSameExemplarSizeGivesScenesOfAnyExtentTheSameTextureSize) {
+  // Still sheets 1 and 3 units across. By default the exemplar's span
+  // follows each first frame's size; with --exemplar-size both atlases show
+  // the texture at that size in scene units, measured from the atlas through
+  // the UV mesh.
+  test::TempDir dir;
+  write_image(dir.file("ex.png"), make_exemplar("gravel", 128, 5));
+  for (const int extent : {1, 3})
+    write_frame_ply(dir.file("sheet" + std::to_string(extent) + ".0001.ply"), test::flat_grid(24, extent), 24.0);
+  const Exemplar exemplar = load_exemplar(dir.file("ex.png"), false);
+  struct Span {
+    double recorded, measured;
+  };
+  const auto span_of = [&](int extent, std::optional<double> exemplar_size) {
+    JobOptions job;
+    job.input.pattern = dir.file("sheet" + std::to_string(extent) + ".####.ply");
+    job.exemplar = dir.file("ex.png");
+    job.output.dir = dir.file("out" + std::to_string(extent) + (exemplar_size ? "given" : "auto"));
+    job.synthesis.atlas.size = 512;
+    job.synthesis.exemplar_size = exemplar_size;
+    run_job(job, silent_reporter());
+    const double recorded = read_job_record(job.output.dir).exemplar_size.value_or(0.0);
+    const TexturedFrame frame = read_run_frame(job.output.atlas(), job.output.mesh(), 1);
+    return Span{recorded, measured_exemplar_span(frame.atlas, frame.mesh, exemplar, recorded)};
+  };
+  const Span small = span_of(1, std::nullopt), large = span_of(3, std::nullopt);
+  EXPECT_NEAR(large.recorded / small.recorded, 3.0, 1e-9);  // 2.6 × 5 % of each diagonal
+  EXPECT_NEAR(small.measured / small.recorded, 1.0, 0.1);
+  EXPECT_NEAR(large.measured / large.recorded, 1.0, 0.1);
+  const Span given_small = span_of(1, 0.3), given_large = span_of(3, 0.3);
+  EXPECT_EQ(given_small.recorded, 0.3);
+  EXPECT_EQ(given_large.recorded, 0.3);
+  EXPECT_NEAR(given_small.measured / 0.3, 1.0, 0.1);
+  EXPECT_NEAR(given_large.measured / 0.3, 1.0, 0.1);
+  EXPECT_NEAR(given_large.measured / given_small.measured, 1.0, 0.1);
+}
+
+TEST(Pipeline, AnExemplarInAnotherColourSpaceIsConvertedOnce) {
+  // A one-colour exemplar in `wide` (as an ACEScg texture would be), blended
+  // in lin_a: every chart texel of the atlas is its colour converted once
+  // (Eq. 7 of one colour is that colour), and the atlas names lin_a; with
+  // --output-colorspace wide, the colour as the exemplar has it.
+  test::TempDir dir;
+  test::write_file(dir.path() / "test.ocio", test::kTwoSpaceConfig);
+  test::write_swatch(dir.file("wide.exr"), "wide", false);
+  write_frame_ply(dir.file("sheet.0001.ply"), test::flat_grid(12), 24.0);
+  for (const std::string output : {"", "wide"}) {
+    SCOPED_TRACE("--output-colorspace '" + output + "'");
+    JobOptions job;
+    job.input.pattern = dir.file("sheet.####.ply");
+    job.exemplar = dir.file("wide.exr");
+    job.output.dir = dir.file("out" + output);
+    job.synthesis.atlas.size = 128;
+    job.synthesis.float_output = true;
+    job.synthesis.color.config = dir.file("test.ocio");
+    job.synthesis.color.working = "lin_a";
+    job.synthesis.color.output = output;
+    run_job(job, silent_reporter());
+    const StoredImage atlas = read_stored_image(FramePattern(job.output.atlas()).path(1));
+    EXPECT_EQ(atlas.color_space, output.empty() ? "lin_a" : "wide");
+    const std::array<float, 3> expected =
+        output.empty() ? test::wide_to_lin_a(0.2f, 0.4f, 0.8f) : std::array<float, 3>{0.2f, 0.4f, 0.8f};
+    const std::vector<char> charts = chart_mask(read_uv_mesh(FramePattern(job.output.mesh()).path(1)), 128);
+    int texels = 0, off = 0;
+    for (std::size_t i = 0; i < charts.size(); ++i) {
+      if (!charts[i]) continue;
+      ++texels;
+      for (int c = 0; c < 3; ++c) off += std::abs(atlas.image.pixel(i)[c] - expected[c]) > 1e-6f;
+    }
+    EXPECT_GT(texels, 1000);
+    EXPECT_EQ(off, 0);
+  }
 }
 
 TEST(Pipeline, ARunNeverLeavesAnotherJobsOutputsBehind) {

@@ -169,7 +169,7 @@ TEST(FlowMap, RunWritesEveryFrameAndIsThreadIndependent) {
   std::string out;
   ASSERT_EQ(run_fluidtex("gen merge -o " + q(dir.str()) +
                              " --frames 3 --resolution 20 --exemplar gravel "
-                             "--exemplar-size 64",
+                             "--exemplar-pixels 64",
                          &out),
             0)
       << out;

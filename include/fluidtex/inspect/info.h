@@ -3,6 +3,7 @@
 /// wrong with it, without writing anything.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,17 @@ struct FrameInfo {
 /// `error` instead of throwing.
 FrameInfo inspect_frame(const Sequence& sequence, std::size_t index);
 
+/// The texture's size a run gives the sequence by default: the radius from
+/// the first readable frame's size, what one exemplar tile spans on the
+/// surface then, and that span to two significant digits, the value `info`
+/// suggests for --exemplar-size. nullopt when no frame is readable.
+struct TextureScale {
+  double radius = 0.0;
+  double exemplar_size = 0.0;
+  double suggested_exemplar_size = 0.0;
+};
+std::optional<TextureScale> default_texture_scale(const std::vector<FrameInfo>& frames);
+
 /// A human-readable table plus a summary (frames, ranges, problems); the
 /// frame rate with where it comes from (Sequence::fps_source()).
 std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source);
@@ -36,7 +48,9 @@ std::string format_info(const std::vector<FrameInfo>& frames, double fps, FpsSou
 /// The same as one JSON document (`fluidtex info --json`): {"sequence",
 /// "fps", "fps_source", "frames": [{frame, path, error (null when read), vertices, faces,
 /// bbox {min, max}, area, mean_edge, speed {min, max, mean}, clean {...}}],
-/// "errors": frames that could not be read}.
+/// "errors": frames that could not be read, "texture_scale" {radius,
+/// exemplar_size, suggested_exemplar_size} (default_texture_scale; absent
+/// when no frame is readable)}.
 std::string format_info_json(const std::vector<FrameInfo>& frames, double fps, FpsSource fps_source,
                              const std::string& pattern);
 

@@ -44,4 +44,20 @@ double spectrum_distance(const std::vector<double>& a, const std::vector<double>
 /// output texel, an n×n crop starting at exemplar texel (x0, y0).
 Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale, int n);
 
+/// The mean radial log spectrum (n×n) of `crops` crops of the exemplar at
+/// `scale` exemplar texels per output texel, spread over the tile by fixed
+/// offsets: the spectrum an atlas shows where the exemplar lands at that
+/// scale.
+std::vector<double> exemplar_spectrum(const Exemplar& exemplar, double scale, int n, int crops = 32);
+
+/// What one exemplar tile spans on the surface as an atlas shows it, in
+/// scene units: the span T whose exemplar spectrum (exemplar_spectrum at
+/// W / (T·ρ) exemplar texels per atlas texel; W the exemplar's width, ρ the
+/// texel density of `mesh`) is closest in shape (each spectrum less its
+/// mean) to the mean spectrum of the atlas windows inside the charts,
+/// searched from `expected` / 4 to 4·`expected` and refined between grid
+/// steps. NaN when no 16×16 window lies inside the charts. It measures the
+/// texture's size from the outputs alone, whatever the job was told.
+double measured_exemplar_span(const Image& atlas, const UVMesh& mesh, const Exemplar& exemplar, double expected);
+
 }  // namespace fluidtex

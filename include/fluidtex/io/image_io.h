@@ -40,6 +40,23 @@ inline constexpr int kMaxImageChannels = 16;
 /// not an image.
 Image read_image(const std::string& path, long long max_pixels = kMaxImagePixels);
 
+/// An image as its file stores it: the values as float, not decoded, and
+/// the colour space the file names (its `colorspace` attribute, else
+/// `oiio:ColorSpace`, which OpenImageIO sets to "Linear" for every EXR;
+/// empty when none).
+struct StoredImage {
+  Image image;
+  std::string color_space;
+  int alpha = -1;  ///< the alpha channel, or -1
+  /// Whether read_image's own rules decode this file (no colour space named,
+  /// or one of sRGB, linear or gamma): a file naming another space (ACEScg,
+  /// say) is read by them as linear Rec. 709.
+  bool rules_apply = true;
+};
+
+/// The same checks and errors as read_image, without decoding.
+StoredImage read_stored_image(const std::string& path, long long max_pixels = kMaxImagePixels);
+
 enum class PixelDepth { Default, Half, Float, UInt8, UInt16 };
 
 /// OpenEXR's compressions (the lossy ones: pxr24 on floats, b44, b44a,
@@ -80,6 +97,11 @@ struct ImageWriteOptions {
   /// Data, not colour (heights, normals): `oiio:ColorSpace` is "Raw" and an
   /// EXR gets no chromaticities.
   bool data = false;
+  /// Colour already in this (OpenColorIO) space, written as it is and named
+  /// in `oiio:ColorSpace` and a `colorspace` attribute (integer formats
+  /// quantise it without the sRGB encoding; no chromaticities). Empty: linear Rec. 709, written as linear
+  /// (float) or sRGB-encoded (integer).
+  std::string color_space;
 };
 
 /// Writes `image` to `path` atomically (temporary sibling + rename). Throws

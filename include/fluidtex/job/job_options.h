@@ -10,9 +10,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "fluidtex/io/color_spaces.h"
 #include "fluidtex/io/sequence.h"
 #include "fluidtex/job/frame_layers.h"
 #include "fluidtex/texture/atlas.h"
@@ -95,6 +97,10 @@ struct OutputOptions {
 /// How each frame's atlas is made and written (Sec. 6.4).
 struct SynthesisJobOptions {
   AtlasOptions atlas;
+  /// --exemplar-size: scene units one exemplar tile spans at --uv-scale 1;
+  /// unset = (2 + β)·d (TrackingOptions::exemplar_tile_size).
+  std::optional<double> exemplar_size;
+  ColorSpaceOptions color;                           ///< --ocio-config and the --*-colorspace names
   Blend blend = Blend::ContrastPreserving;           ///< --blend
   double weight_cutoff = 0.1;                        ///< --weight-cutoff (SynthesisOptions::weight_cutoff)
   SynthesisScheme scheme = SynthesisScheme::Raster;  ///< --synthesis
@@ -110,6 +116,13 @@ struct SynthesisJobOptions {
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
     AtlasOptions::for_each_option(o.atlas, f);
+    f(OptionInfo{.name = "exemplar-size",
+                 .help = "Size of one exemplar tile on the surface in scene units, at --uv-scale 1 (auto: (2 + beta) x "
+                         "radius, which follows the first frame's size unless --radius is given): the same value "
+                         "gives every shot the same texture size",
+                 .bounds = between(1e-9, 1e9)},
+      o.exemplar_size);
+    ColorSpaceOptions::for_each_option(o.color, f);
     f(OptionInfo{.name = "blend",
                  .help = "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)"},
       o.blend);
@@ -217,7 +230,7 @@ void JobOptions::for_each_option(Self& o, F&& f) {
   OutputOptions::for_each_option(o.output, in_section(""));
   f(shared_options::with_help(shared_options::kExemplar,
                               "Exemplar texture (any format OpenImageIO reads; 8/16-bit files are taken as sRGB and "
-                              "linearised, float files as linear)"),
+                              "linearised, float files as linear, unless colour is managed: --exemplar-colorspace)"),
     o.exemplar);
   f(shared_options::kThreads, o.threads);
   f(shared_options::kSeed, o.seed);

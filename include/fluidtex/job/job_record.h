@@ -10,6 +10,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct JobRecord {
   std::string version;        ///< version_line() of the build that wrote it; empty: written before records
   std::string exemplar_sha1;  ///< SHA-1 of the exemplar's bytes; empty when the job has no exemplar
   std::vector<int> frames;    ///< the frames the job covers, ascending
+  /// Scene units one exemplar tile spans on the surface (exemplar_span in
+  /// frame_texturing.h), whatever --exemplar-size said; unset for a job
+  /// without an exemplar. Not part of the contract: it follows from it.
+  std::optional<double> exemplar_size;
 };
 
 /// SHA-1 of the bytes of `path`, lower-case hex (what `sha1sum` prints);

@@ -17,7 +17,7 @@ struct ExampleRequest {
   std::string dir;             ///< -o: where the frames (and the exemplar) go
   SceneOptions scene_options;  ///< frames, rate, density, format
   std::string exemplar;        ///< --exemplar: one of exemplar_names(); empty = none
-  int exemplar_size = 512;     ///< the exemplar's size in pixels
+  int exemplar_pixels = 512;   ///< the exemplar's width and height in pixels
   std::uint64_t seed = 1;      ///< the exemplar's seed
 
   /// "Scene: NAME, NAME, ..." and "Also write ...: NAME, ...": the help
@@ -33,7 +33,10 @@ struct ExampleRequest {
     f(required(kOutput, "Output folder (frames are SCENE.####.ply or .vdb)"), o.dir);
     SceneOptions::for_each_option(o.scene_options, f);
     f(OptionInfo{.name = "exemplar", .help = exemplar_help()}, o.exemplar);
-    f(OptionInfo{.name = "exemplar-size", .help = "Exemplar size in pixels", .bounds = at_least(8)}, o.exemplar_size);
+    f(
+        OptionInfo{
+            .name = "exemplar-pixels", .help = "Width and height of the exemplar in pixels", .bounds = at_least(8)},
+        o.exemplar_pixels);
     f(with_help(kSeed, "Seed of the exemplar"), o.seed);
   }
 };

@@ -33,6 +33,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -106,6 +107,8 @@ struct FlowMapSettings {
   /// Radius d and margin β set the tile size (2 + β)·d; s the uv scale. The
   /// automatic radius is resolved on the first frame as the tracker does.
   TrackingOptions tracking;
+  /// The tile size instead of (2 + β)·d (the job's --exemplar-size).
+  std::optional<double> exemplar_size;
   std::uint64_t seed = 1;
 };
 
@@ -132,7 +135,8 @@ class FlowMapAdvector {
   FlowMapFrame frame() const;
   /// The parameters in use; lengths are resolved after the first step.
   const FlowMapSettings& settings() const { return settings_; }
-  /// Scene units per exemplar tile, (2 + β)·d (after the first step).
+  /// Scene units per exemplar tile at s = 1: exemplar_size, else (2 + β)·d
+  /// (after the first step).
   double tile_size() const { return tile_size_; }
   /// The current surface, shared (stays valid after later steps).
   std::shared_ptr<const SurfaceIndex> shared_surface() const { return surface_; }

@@ -184,9 +184,13 @@ struct TrackingOptions {
   double d() const { return length(radius, "radius"); }
   double mpt() const { return length(max_projection, "max-projection"); }
   double cs() const { return length(thickness, "thickness"); }
-  /// Scene units one exemplar tile spans at s = 1: (2 + β)·d, so a patch's
-  /// disk shows most of a tile, each patch a different part of it.
-  double exemplar_tile_size() const { return (2.0 + selection_margin) * d(); }
+  /// Scene units one exemplar tile spans at s = 1: `given` (the job's
+  /// --exemplar-size) when set, else (2 + β)·d, so a patch's disk shows
+  /// most of a tile, each patch a different part of it. A tile spans
+  /// exemplar_tile_size() / s on the surface.
+  double exemplar_tile_size(const std::optional<double>& given = std::nullopt) const {
+    return given ? *given : (2.0 + selection_margin) * d();
+  }
   /// Plastic patches' yield: the Sorkine distortion up to which a triangle
   /// keeps its uv (relax-frames), where its quality Q_T is halfway between 1
   /// and Q_vmin (1.5 with the defaults), so a patch relaxes before the

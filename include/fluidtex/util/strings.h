@@ -16,4 +16,8 @@ std::string format_number(double v);
 /// "a/B.PLY" → ".ply".
 std::string lower_extension(const std::string& path);
 
+/// `message` (a library's error, which may span lines) as one line: its
+/// lines trimmed, repeats left out, joined by "; ".
+std::string one_line(const std::string& message);
+
 }  // namespace fluidtex
