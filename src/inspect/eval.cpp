@@ -90,6 +90,7 @@ void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved
     row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
   const double tile = resolved.exemplar_tile_size(so.exemplar_size);
   const double density = texel_density(frame.mesh, frame.atlas.width);
+  row.emplace_back("texel_density", density);
   const double scale =
       exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
   double spectrum = std::nan("");

@@ -32,10 +32,16 @@ struct ColorSpaces::Config {
   }
 };
 
+std::string ColorSpaceOptions::config_file() const {
+  if (!managed()) return "";
+  if (!config.empty()) return config;
+  const char* env = std::getenv("OCIO");
+  return env ? std::string(env) : std::string();
+}
+
 ColorSpaces::ColorSpaces(const ColorSpaceOptions& options) {
   if (!options.managed()) return;
-  const char* env = std::getenv("OCIO");
-  const std::string file = !options.config.empty() ? options.config : env ? std::string(env) : std::string();
+  const std::string file = options.config_file();
   auto config = std::make_shared<Config>(file);
   config->source = !options.config.empty() ? options.config
                    : !file.empty()         ? "$OCIO (" + file + ")"

@@ -75,6 +75,7 @@ std::string settings_hash(const JobRecord& record) {
   };
   add("version", record.version);
   add("exemplar-sha1", record.exemplar_sha1);
+  if (!record.ocio_sha1.empty()) add("ocio-sha1", record.ocio_sha1);
   for (const OptionRef& ref : option_table(o)) {
     if (ref.info.role == OptionRole::Method) add(ref.info.name, ref.text());
   }
@@ -94,6 +95,8 @@ JobRecord make_job_record(const JobOptions& options, const std::vector<int>& fra
   }
   record.version = version_line();
   if (!options.exemplar.empty()) record.exemplar_sha1 = file_sha1(options.exemplar, "exemplar");
+  const std::string ocio = options.synthesis.color.config_file();
+  if (!ocio.empty()) record.ocio_sha1 = file_sha1(ocio, "OpenColorIO config");
   record.frames = frames;
   return record;
 }
@@ -108,6 +111,8 @@ std::string job_record_toml(const JobRecord& record) {
          d::toml_string("version", record.version) +
          "\nexemplar-sha1=" + d::toml_string("exemplar-sha1", record.exemplar_sha1) +
          "\nframes=" + d::toml_string("frames", format_frame_range(record.frames)) + "\n" +
+         (record.ocio_sha1.empty() ? std::string()
+                                   : "ocio-sha1=" + d::toml_string("ocio-sha1", record.ocio_sha1) + "\n") +
          (record.exemplar_size ? "# Scene units one exemplar tile spans on the surface.\nexemplar-size=" +
                                      format_number(*record.exemplar_size) + "\n"
                                : std::string());
@@ -128,6 +133,8 @@ JobRecord read_job_record(const std::string& run_dir) {
       record.version = value;
     } else if (e.name == "exemplar-sha1") {
       record.exemplar_sha1 = value;
+    } else if (e.name == "ocio-sha1") {
+      record.ocio_sha1 = value;
     } else if (e.name == "exemplar-size") {
       char* end = nullptr;
       const double size = std::strtod(value.c_str(), &end);
@@ -180,6 +187,11 @@ void check_resumable(const JobRecord& job, const JobRecord& given) {
                                     : "its content differs from the job's (sha1 " + given.exemplar_sha1 +
                                           ", the job's " + job.exemplar_sha1 + ")";
     throw InputError(path, "--exemplar: " + problem + restart);
+  }
+  if (job.ocio_sha1 != given.ocio_sha1) {
+    throw InputError(path, "--ocio-config: the OpenColorIO config differs from the job's (sha1 " +
+                               (given.ocio_sha1.empty() ? std::string("none") : given.ocio_sha1) + ", the job's " +
+                               (job.ocio_sha1.empty() ? std::string("none") : job.ocio_sha1) + ")" + restart);
   }
   const std::size_t n = std::min(job.frames.size(), given.frames.size());
   if (!std::equal(job.frames.begin(), job.frames.begin() + static_cast<std::ptrdiff_t>(n), given.frames.begin())) {

@@ -55,6 +55,14 @@ JobOptions synthesis_job(const JobRecord& record, const SynthRequest& request) {
     throw InputError(options.exemplar, "the exemplar changed since the job was tracked (sha1 " + sha1 + ", the job's " +
                                            record.exemplar_sha1 + ")");
   }
+  const std::string ocio = options.synthesis.color.config_file();
+  const std::string ocio_sha1 = ocio.empty() ? std::string() : file_sha1(ocio, "OpenColorIO config");
+  if (ocio_sha1 != record.ocio_sha1) {
+    throw InputError(ocio.empty() ? path : ocio,
+                     "the OpenColorIO config differs from the job's (sha1 " +
+                         (ocio_sha1.empty() ? std::string("none") : ocio_sha1) + ", the job's " +
+                         (record.ocio_sha1.empty() ? std::string("none") : record.ocio_sha1) + ")");
+  }
   options.output.dir = dir;
   options.output.resume = false;
   options.synthesis.track_only = false;

@@ -14,6 +14,7 @@
 #include "fluidtex/geometry/disk_region.h"
 #include "fluidtex/geometry/parameterization.h"
 #include "fluidtex/util/error.h"
+#include "fluidtex/util/strings.h"
 
 namespace fluidtex {
 
@@ -395,6 +396,40 @@ double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& f
   return lo;
 }
 
+/// Step 3, at a given density: the smallest square, a multiple of 64 texels
+/// up to options.size, into which the charts pack at `density` (by
+/// bisection over the multiples), and their placements there.
+int pack_size(const SurfaceIndex& surface, const std::vector<FlatChart>& flat, const AtlasOptions& options,
+              double density, std::vector<Placement>& placement) {
+  constexpr int kStep = 64;
+  // No square smaller than the charts' area at 100 % packing holds them.
+  const double least = std::sqrt(surface.area()) * density;
+  int lo = std::max(1, static_cast<int>(std::ceil(least / kStep)));  // in steps; lo − 1 steps never fit
+  int hi = options.size / kStep;
+  std::vector<Placement> trial;
+  int fits = 0;
+  if (hi >= lo && pack_shapes(flat, density, hi * kStep, options.gutter, trial)) {
+    fits = hi;
+    placement.swap(trial);
+    while (lo < fits) {
+      const int mid = (lo + fits) / 2;
+      if (pack_shapes(flat, density, mid * kStep, options.gutter, trial)) {
+        fits = mid;
+        placement.swap(trial);
+      } else {
+        lo = mid + 1;
+      }
+    }
+  }
+  if (fits == 0) {
+    throw InputError("", "atlas: at --texel-density " + format_number(density) + " the surface (area " +
+                             format_number(surface.area()) + ") needs more than " + std::to_string(options.size) + "x" +
+                             std::to_string(options.size) +
+                             " texels: lower --texel-density or raise --atlas-size (at most 32768)");
+  }
+  return fits * kStep;
+}
+
 }  // namespace
 
 Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
@@ -407,7 +442,9 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
   FlatCharts charts = segment_and_flatten(surface, options);
   atlas.failed_charts = charts.failed;
   std::vector<Placement> placement;
-  const double density = pack_density(surface, charts.flat, options, placement);
+  const double density =
+      options.texel_density ? *options.texel_density : pack_density(surface, charts.flat, options, placement);
+  if (options.texel_density) atlas.size = pack_size(surface, charts.flat, options, density, placement);
   atlas.texels_per_unit = density;
 
   // 4. Corner positions in texels.
@@ -430,7 +467,7 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     }
     chart_area_px += chart.area3 * density * density;
   }
-  atlas.packing_efficiency = chart_area_px / (static_cast<double>(options.size) * options.size);
+  atlas.packing_efficiency = chart_area_px / (static_cast<double>(atlas.size) * atlas.size);
   return atlas;
 }
 

@@ -47,10 +47,11 @@ TEST(JobRecord, ResumeRefusesEveryOptionThatChangesTheOutput) {
   job.version = version_line();
   job.frames = {1, 2, 3, 4};
   JobOptions probe = base;
-  // The input and the exemplar are compared by content (the newest state's
-  // mesh fingerprint, the exemplar's SHA-1), not by path.
-  const std::set<std::string> free = {"output",      "resume", "force",    "keep-state", "threads",
-                                      "debug-views", "frames", "exemplar", "input",      "velocity-vdb"};
+  // The input, the exemplar and the OpenColorIO config are compared by
+  // content (the newest state's mesh fingerprint, the files' SHA-1), not by
+  // path.
+  const std::set<std::string> free = {"output", "resume",   "force", "keep-state",   "threads",    "debug-views",
+                                      "frames", "exemplar", "input", "velocity-vdb", "ocio-config"};
   int checked = 0;
   const std::vector<OptionRef> table = option_table(probe);
   for (std::size_t i = 0; i < table.size(); ++i) {

@@ -169,6 +169,14 @@ TEST(Pipeline, AnExemplarInAnotherColourSpaceIsConvertedOnce) {
     }
     EXPECT_GT(texels, 1000);
     EXPECT_EQ(off, 0);
+    // The job holds the config's content: an edited config is another job.
+    const JobRecord record = read_job_record(job.output.dir);
+    EXPECT_EQ(record.ocio_sha1, file_sha1(dir.file("test.ocio")));
+    job.input.fps = record.options.input.fps;  // as the run recorded it
+    EXPECT_NO_THROW(check_resumable(record, make_job_record(job, record.frames)));
+    test::write_file(dir.path() / "edited.ocio", std::string(test::kTwoSpaceConfig) + "# edited\n");
+    job.synthesis.color.config = dir.file("edited.ocio");
+    EXPECT_THROW(check_resumable(record, make_job_record(job, record.frames)), InputError);
   }
 }
 

@@ -30,13 +30,17 @@ struct ColorSpaceOptions {
 
   /// Whether a space is named (otherwise fluidtex's own rules, no config).
   bool managed() const { return !exemplar.empty() || !working.empty() || !output.empty(); }
+  /// The config file a managed job reads (--ocio-config, else $OCIO); empty
+  /// when unmanaged or with OpenImageIO's built-in config.
+  std::string config_file() const;
 
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
     f(OptionInfo{.name = "ocio-config",
                  .help = "OpenColorIO config for the --*-colorspace names (default: $OCIO, else OpenImageIO's "
                          "built-in linear, sRGB and Rec709)",
-                 .group = "Colour"},
+                 .group = "Colour",
+                 .role = OptionRole::InputPath},
       o.config);
     f(OptionInfo{.name = "exemplar-colorspace",
                  .help = "Colour space of the exemplar's values (default: the one its file names; with no space "

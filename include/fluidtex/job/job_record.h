@@ -22,7 +22,10 @@ struct JobRecord {
   JobOptions options;
   std::string version;        ///< version_line() of the build that wrote it; empty: written before records
   std::string exemplar_sha1;  ///< SHA-1 of the exemplar's bytes; empty when the job has no exemplar
-  std::vector<int> frames;    ///< the frames the job covers, ascending
+  /// SHA-1 of the OpenColorIO config a managed job reads (--ocio-config or
+  /// $OCIO); empty when colour is not managed or the config is built in.
+  std::string ocio_sha1;
+  std::vector<int> frames;  ///< the frames the job covers, ascending
   /// Scene units one exemplar tile spans on the surface (exemplar_span in
   /// frame_texturing.h), whatever --exemplar-size said; unset for a job
   /// without an exemplar. Not part of the contract: it follows from it.

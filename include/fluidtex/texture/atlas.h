@@ -14,10 +14,12 @@
 /// gutter between charts. A chart LSCM cannot flatten, that it stretches
 /// beyond `max_stretch` or that covers less than `min_fill` of its bounding
 /// box is cut in two across its long side first, and its pieces tested
-/// again. The density is the largest that fits.
+/// again. The density is the largest that fits, or the one asked for
+/// (`texel_density`) in the smallest square that holds it.
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "fluidtex/geometry/surface.h"
@@ -27,7 +29,11 @@
 namespace fluidtex {
 
 struct AtlasOptions {
-  int size = 2048;                     ///< atlas width = height, texels
+  int size = 2048;  ///< atlas width = height, texels (with texel_density: the largest)
+  /// --texel-density: texels per scene unit, each frame's atlas the smallest
+  /// square, a multiple of 64 texels up to `size`, that holds the charts at
+  /// it; unset: the densest the `size` square holds.
+  std::optional<double> texel_density;
   int gutter = 4;                      ///< empty texels around each chart (filled by dilation)
   double normal_cone = 0.85;           ///< faces join a chart while N_f·N_seed > this
   std::size_t max_chart_faces = 5000;  ///< chart size bound (LSCM cost, distortion)
@@ -38,8 +44,16 @@ struct AtlasOptions {
   /// The fields a user sets, as f(OptionInfo, field) (util/options.h).
   template <class Self, class F>
   static void for_each_option(Self& o, F&& f) {
-    f(OptionInfo{.name = "atlas-size", .help = "Atlas width and height in texels", .bounds = between(16, 32768)},
+    f(OptionInfo{.name = "atlas-size",
+                 .help = "Atlas width and height in texels (with --texel-density: the largest a frame may take)",
+                 .bounds = between(16, 32768)},
       o.size);
+    f(OptionInfo{.name = "texel-density",
+                 .help = "Atlas texels per scene unit: each frame's atlas is the smallest square, a multiple of 64 "
+                         "texels up to --atlas-size, that holds the surface at this density (auto: the densest "
+                         "that --atlas-size holds)",
+                 .bounds = between(1e-9, 1e9)},
+      o.texel_density);
     f(OptionInfo{.name = "gutter", .help = "Texels between charts, filled by dilation", .bounds = between(1, 64)},
       o.gutter);
   }
