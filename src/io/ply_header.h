@@ -12,6 +12,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <sstream>
@@ -169,8 +170,14 @@ inline PlyHeader parse_ply_header(const std::string& path, const std::string& by
     } else if (tok[0] == "property") {
       if (h.elements.empty()) throw bad("property before any element");
       h.elements.back().properties.push_back(parse_ply_property(tok, bad));
+    } else if (std::strtod(tok[0].c_str(), nullptr) != 0.0 || tok[0].find_first_not_of("+-.0") == std::string::npos) {
+      // A number where a keyword goes: the body of an ASCII file.
+      throw bad("numbers before end_header (is the end_header line missing?)");
+    } else if (std::any_of(tok[0].begin(), tok[0].end(),
+                           [](char c) { return !std::isprint(static_cast<unsigned char>(c)); })) {
+      throw bad("binary data before end_header (is the end_header line missing?)");
     } else {
-      throw bad("unknown keyword '" + tok[0] + "'");
+      throw bad("unknown keyword '" + tok[0].substr(0, 40) + "'");
     }
   }
   if (!have_format) throw InputError(path, "malformed PLY header: no format line");

@@ -327,6 +327,11 @@ std::vector<Case> cases() {
   c.push_back(mesh_case("ascii_one_far_vertex", ascii("0 0 0 0 0 0\n1 0 0 0 0 0\n1 1 0 0 0 0\n1e30 1 0 0 0 0\n")));
   // Headers.
   c.push_back(mesh_case("header_no_end", "ply\nformat ascii 1.0\nelement vertex 4\n"));
+  {
+    std::string no_end = ascii(kVertices, kFaces);
+    no_end.erase(no_end.find("end_header\n"), 11);
+    c.push_back(mesh_case("header_ascii_body_without_end_header", no_end));
+  }
   c.push_back(mesh_case("header_nul", std::string("ply\nformat ascii 1.0\nelement vertex 4\0\0\0\n", 40) + kVertices));
   c.push_back(mesh_case("header_hex_count", ascii(kVertices, kFaces, header_with("vertex 4", "vertex 0x4"))));
   c.push_back(mesh_case("header_huge_count", ascii(kVertices, kFaces, header_with("vertex 4", "vertex 2147483647"))));

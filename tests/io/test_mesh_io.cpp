@@ -269,6 +269,25 @@ TEST(MeshIo, ObjOnlyWithoutRequiredVelocities) {
   EXPECT_NE(err.find("--velocity-from-positions"), std::string::npos) << err;
 }
 
+TEST(MeshIo, AHeaderWithoutEndHeaderSaysSoWithoutEchoingTheBody) {
+  // The body of an ASCII file, or binary bytes, where the header's next
+  // keyword should be: the line says end_header is missing, and no byte of
+  // the body is echoed.
+  TempDir dir;
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  write_file(dir.file("ascii.ply"), head + "0.5 0 0\n1 0 0\n0 1 0\n");
+  std::string err = read_error(dir.file("ascii.ply"));
+  EXPECT_NE(err.find("line 7: numbers before end_header (is the end_header line missing?)"), std::string::npos) << err;
+  write_file(dir.file("garbage.ply"), head + "\x81\x82junk\n");
+  err = read_error(dir.file("garbage.ply"));
+  EXPECT_NE(err.find("binary data before end_header"), std::string::npos) << err;
+  EXPECT_EQ(err.find("junk"), std::string::npos) << err;
+  write_file(dir.file("keyword.ply"), head + "vertex_count 3\nend_header\n");
+  err = read_error(dir.file("keyword.ply"));
+  EXPECT_NE(err.find("unknown keyword 'vertex_count'"), std::string::npos) << err;
+}
+
 TEST(MeshIo, ConcurrentReadsAgree) {
   TempDir dir;
   const Sample s;
