@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/inspect/motion_metrics.h"
+#include "fluidtex/inspect/texture_metrics.h"
 #include "fluidtex/inspect/textured_frame.h"
 #include "fluidtex/job/job_record.h"
 #include "fluidtex/util/error.h"
@@ -64,6 +66,60 @@ FrameComparison compare_frame(const TexturedFrame& golden, const TexturedFrame& 
   return out;
 }
 
+/// Whether two frames share their layout: the same atlas size and UV mesh,
+/// so that texel (x, y) of one is texel (x, y) of the other.
+bool same_layout(const TexturedFrame& a, const TexturedFrame& b) {
+  return a.atlas.width == b.atlas.width && a.atlas.height == b.atlas.height && a.mesh.uvs == b.mesh.uvs &&
+         a.mesh.uv_triangles == b.mesh.uv_triangles && a.mesh.positions == b.mesh.positions &&
+         a.mesh.triangles == b.mesh.triangles;
+}
+
+/// The surface point that texel (x, y) of `frame`'s atlas shows (its centre
+/// in a uv triangle; the first corner of the nearest one otherwise).
+Vec3 texel_point(const TexturedFrame& frame, int x, int y) {
+  const int n = frame.atlas.width;
+  const Vec2 q((x + 0.5) / n, 1.0 - (y + 0.5) / frame.atlas.height);
+  double best = std::numeric_limits<double>::infinity();
+  Vec3 out = Vec3::Zero();
+  for (std::size_t f = 0; f < frame.mesh.uv_triangles.size(); ++f) {
+    const Tri& t = frame.mesh.uv_triangles[f];
+    const Vec2 &a = frame.mesh.uvs[t[0]], &b = frame.mesh.uvs[t[1]], &c = frame.mesh.uvs[t[2]];
+    const double area = signed_area(a, b, c);
+    if (area == 0.0) continue;
+    const Vec3 l(signed_area(q, b, c) / area, signed_area(a, q, c) / area, signed_area(a, b, q) / area);
+    const double outside = -std::min({l.x(), l.y(), l.z(), 0.0});
+    if (outside < best) {
+      best = outside;
+      out = interpolate(frame.mesh.positions, frame.mesh.triangles[f], l);
+    }
+  }
+  return out;
+}
+
+/// The texel-by-texel part of a comparison of two frames of one layout:
+/// every chart texel, the largest difference in any channel.
+void compare_texels(const TexturedFrame& golden, const TexturedFrame& candidate, FrameComparison& out) {
+  const std::vector<char> charts = chart_mask(golden.mesh, golden.atlas.width);
+  const Image& a = golden.atlas;
+  const Image& b = candidate.atlas;
+  std::size_t worst = 0;
+  for (std::size_t i = 0; i < charts.size(); ++i) {
+    if (!charts[i]) continue;
+    ++out.texels;
+    for (int c = 0; c < a.channels; ++c) {
+      double d = std::abs(double(a.pixel(i)[c]) - double(b.pixel(i)[c]));
+      if (std::isnan(d)) d = std::numeric_limits<double>::infinity();
+      if (d > out.texel_max) {
+        out.texel_max = d;
+        worst = i;
+      }
+    }
+  }
+  out.worst_x = static_cast<int>(worst % a.width);
+  out.worst_y = static_cast<int>(worst / a.width);
+  if (out.texel_max > 0.0) out.worst_point = texel_point(golden, out.worst_x, out.worst_y);
+}
+
 }  // namespace
 
 Comparison compare_runs(const CompareOptions& options, Reporter& reporter) {
@@ -85,8 +141,13 @@ Comparison compare_runs(const CompareOptions& options, Reporter& reporter) {
           FramePattern(candidate.atlas).path(frame),
           std::to_string(b.atlas.channels) + " channels, the golden atlas " + std::to_string(a.atlas.channels));
     }
-    out.frames.push_back(compare_frame(a, b, frame, options));
-    out.passed = out.passed && out.frames.back().passed;
+    FrameComparison f = compare_frame(a, b, frame, options);
+    if (same_layout(a, b)) {
+      compare_texels(a, b, f);
+      f.passed = f.passed && f.texel_max <= options.max_tolerance;
+    }
+    out.passed = out.passed && f.passed;
+    out.frames.push_back(f);
   }
   reporter.progress(golden.frames.size(), golden.frames.size(), "compare");
   return out;
@@ -106,19 +167,30 @@ std::string comparison_verdict(const Comparison& comparison, const CompareOption
   const auto failed = std::count_if(comparison.frames.begin(), comparison.frames.end(),
                                     [](const FrameComparison& f) { return !f.passed; });
   char verdict[200];
-  std::snprintf(verdict, sizeof verdict, "%s: %ld of %zu frames differ (mean > %g or %s > %g)\n",
+  std::snprintf(verdict, sizeof verdict, "%s: %ld of %zu frames differ (mean > %g or %s > %g or a texel > %g)\n",
                 comparison.passed ? "same" : "differs", static_cast<long>(failed), comparison.frames.size(),
-                options.mean_tolerance, percentile_name(options).c_str(), options.percentile_tolerance);
+                options.mean_tolerance, percentile_name(options).c_str(), options.percentile_tolerance,
+                options.max_tolerance);
   return verdict;
 }
 
 std::string format_comparison(const Comparison& comparison, const CompareOptions& options) {
   std::ostringstream s;
-  s << "| frame | samples | mean | " << percentile_name(options) << " | max | |\n|---|---|---|---|---|---|\n";
+  s << "| frame | samples | mean | " << percentile_name(options)
+    << " | max | texel max | |\n|---|---|---|---|---|---|---|\n";
   for (const FrameComparison& f : comparison.frames) {
-    char line[160];
-    std::snprintf(line, sizeof line, "| %d | %zu | %.5f | %.5f | %.5f | %s |\n", f.frame, f.samples, f.mean,
-                  f.percentile, f.max, f.passed ? "ok" : "DIFFERS");
+    char line[200], texel[32] = "layouts differ";
+    if (f.texels > 0) std::snprintf(texel, sizeof texel, "%.5f", f.texel_max);
+    std::snprintf(line, sizeof line, "| %d | %zu | %.5f | %.5f | %.5f | %s | %s |\n", f.frame, f.samples, f.mean,
+                  f.percentile, f.max, texel, f.passed ? "ok" : "DIFFERS");
+    s << line;
+  }
+  for (const FrameComparison& f : comparison.frames) {
+    if (f.texels == 0 || f.texel_max <= options.max_tolerance) continue;
+    char line[240];
+    std::snprintf(line, sizeof line,
+                  "frame %d: worst texel (%d, %d) differs by %.5f, at (%.6g, %.6g, %.6g) on the surface\n", f.frame,
+                  f.worst_x, f.worst_y, f.texel_max, f.worst_point.x(), f.worst_point.y(), f.worst_point.z());
     s << line;
   }
   s << comparison_verdict(comparison, options);

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "fluidtex/inspect/compare.h"
+#include "fluidtex/inspect/texture_metrics.h"
 #include "fluidtex/io/image_io.h"
+#include "fluidtex/io/uv_mesh_io.h"
 #include "fluidtex/scenes/exemplar_gen.h"
 #include "fluidtex/util/error.h"
 #include "test_util.h"
@@ -68,6 +70,45 @@ TEST_F(Compare, SameTextureWhateverTheLayoutAnotherExemplarDiffers) {
   const std::string table = format_comparison(d, CompareOptions{});
   EXPECT_NE(table.find("DIFFERS"), std::string::npos);
   EXPECT_NE(table.find("differs: 3 of 3 frames"), std::string::npos) << table;
+}
+
+TEST_F(Compare, AFewDamagedTexelsFailTexelByTexelAndAreLocated) {
+  // Twelve chart texels of frame 2 raised by 0.3: too few for the sampled
+  // mean and percentile, not for the texel-by-texel check of two runs of one
+  // layout, which names the worst texel and where it lies.
+  const Comparison same = compare("same");
+  for (const FrameComparison& f : same.frames) {
+    EXPECT_GT(f.texels, 10000u);
+    EXPECT_EQ(f.texel_max, 0.0);
+  }
+  test::TempDir copy;
+  std::filesystem::copy(dir_->file("same"), copy.path() / "run", std::filesystem::copy_options::recursive);
+  const std::string atlas = (copy.path() / "run" / "atlas.0002.exr").string();
+  Image damaged = read_image(atlas);
+  const std::vector<char> charts = chart_mask(read_uv_mesh(dir_->file("same/mesh.0002.obj")), damaged.width);
+  int changed = 0;
+  for (std::size_t i = charts.size() / 2; i < charts.size() && changed < 12; ++i) {
+    if (!charts[i]) continue;
+    damaged.pixel(i)[1] = std::min(1.0f, damaged.pixel(i)[1] + 0.3f);
+    ++changed;
+  }
+  write_image(atlas, damaged);
+  CompareOptions o;
+  o.golden = dir_->file("golden");
+  o.candidate = (copy.path() / "run").string();
+  o.samples = 20000;
+  const Comparison c = compare_runs(o, silent_reporter());
+  ASSERT_EQ(c.frames.size(), 3u);
+  EXPECT_FALSE(c.passed);
+  EXPECT_TRUE(c.frames[0].passed);
+  EXPECT_FALSE(c.frames[1].passed);
+  EXPECT_LT(c.frames[1].mean, o.mean_tolerance);  // what the statistics alone would have passed
+  EXPECT_GT(c.frames[1].texel_max, 0.2);
+  const std::string table = format_comparison(c, o);
+  EXPECT_NE(table.find("frame 2: worst texel ("), std::string::npos) << table;
+  EXPECT_NE(table.find("differs: 1 of 3 frames"), std::string::npos) << table;
+  // Another layout (a wider gutter) is compared on the surface only.
+  for (const FrameComparison& f : compare("repacked").frames) EXPECT_EQ(f.texels, 0u);
 }
 
 TEST_F(Compare, CommandExitsZeroOneOrTwo) {

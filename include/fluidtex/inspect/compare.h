@@ -9,13 +9,17 @@
 /// difference of a point is the mean absolute difference over the channels
 /// (linear values, as the atlases store them). A frame passes when the mean
 /// difference and the chosen percentile of the differences are within their
-/// tolerances.
+/// tolerances, and, where the two frames share their layout (the same atlas
+/// size and UV mesh: the same job, on any thread count or machine), when no
+/// chart texel differs by more than the per-texel tolerance in any channel:
+/// sampled statistics miss damage to a few texels.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "fluidtex/geometry/mesh.h"
 #include "fluidtex/util/report.h"
 #include "fluidtex/util/shared_options.h"
 
@@ -29,6 +33,7 @@ struct CompareOptions {
   double mean_tolerance = 0.01;       ///< largest mean difference per frame
   double percentile = 99.0;           ///< which percentile of the differences is bounded
   double percentile_tolerance = 0.1;  ///< its largest value per frame
+  double max_tolerance = 0.05;        ///< largest difference of one chart texel (same layout)
 
   /// The options of `compare` as f(OptionInfo, field) (util/options.h).
   template <class Self, class F>
@@ -51,6 +56,11 @@ struct CompareOptions {
                  .help = "Largest value of that percentile per frame",
                  .bounds = between(0.0, 1e9)},
       o.percentile_tolerance);
+    f(OptionInfo{.name = "max-tolerance",
+                 .help = "Largest difference of one chart texel in any channel, checked texel by texel where the "
+                         "two runs share their atlas layout (the same job anywhere)",
+                 .bounds = between(0.0, 1e9)},
+      o.max_tolerance);
   }
 };
 
@@ -60,6 +70,12 @@ struct FrameComparison {
   double mean = 0.0;        ///< mean difference
   double percentile = 0.0;  ///< options.percentile-th percentile of the differences
   double max = 0.0;
+  /// Texel by texel (the same layout only; otherwise `texels` is 0): the
+  /// chart texels compared, the largest difference in any channel and where.
+  std::size_t texels = 0;
+  double texel_max = 0.0;
+  int worst_x = 0, worst_y = 0;     ///< the worst texel (x right, y down)
+  Vec3 worst_point = Vec3::Zero();  ///< where it lies on the surface
   bool passed = true;
 };
 
@@ -77,7 +93,8 @@ Comparison compare_runs(const CompareOptions& options, Reporter& reporter);
 /// The verdict line: "same: 0 of N frames differ (...)" or "differs: K of N ...".
 std::string comparison_verdict(const Comparison& comparison, const CompareOptions& options);
 
-/// The per-frame table (Markdown), then the verdict line.
+/// The per-frame table (Markdown), the worst texel of each frame that fails
+/// texel by texel, then the verdict line.
 std::string format_comparison(const Comparison& comparison, const CompareOptions& options);
 
 }  // namespace fluidtex
