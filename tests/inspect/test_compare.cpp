@@ -103,6 +103,7 @@ TEST_F(Compare, AFewDamagedTexelsFailTexelByTexelAndAreLocated) {
   EXPECT_TRUE(c.frames[0].passed);
   EXPECT_FALSE(c.frames[1].passed);
   EXPECT_LT(c.frames[1].mean, o.mean_tolerance);  // what the statistics alone would have passed
+  EXPECT_LE(c.frames[1].percentile, o.percentile_tolerance);
   EXPECT_GT(c.frames[1].texel_max, 0.2);
   const std::string table = format_comparison(c, o);
   EXPECT_NE(table.find("frame 2: worst texel ("), std::string::npos) << table;
