@@ -452,6 +452,17 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
       ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
     }
     if (!ok || !out->close()) throw InternalError(path + ": cannot write image: " + one_line(out->geterror()));
+    // OpenImageIO's PNG writer does not see its stream's write errors: a PNG
+    // cut short by a full disk would pass for written. It is read back.
+    if (format == Format::Png) {
+      const StderrCapture quiet;  // libpng prints what it finds wrong
+      auto in = OIIO::ImageInput::open(tmp.string());
+      std::vector<std::uint8_t> back(image.pixels.size() * type.size());
+      if (!in || !in->read_image(0, 0, 0, image.channels, type, back.data())) {
+        (void)OIIO::geterror();
+        throw InternalError(path + ": cannot write image: the written PNG does not read back");
+      }
+    }
   });
 }
 

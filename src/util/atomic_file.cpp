@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cstdint>
 #include <fstream>
 #include <system_error>
 
@@ -72,6 +73,24 @@ fs::path temporary_sibling(const fs::path& target) {
   return dir / name;
 }
 
+namespace {
+
+/// Free bytes under which a failed write is put down to a full disk.
+constexpr std::uintmax_t kFullDiskBytes = 1 << 20;
+
+/// " (No space left on device: N bytes free in DIR)" when the file system of
+/// `dir` is full, else "": writers that fail on a full disk (OpenEXR, TIFF)
+/// seldom say why. Asked before the partial file is removed.
+std::string full_disk_note(const fs::path& dir) {
+  std::error_code ec;
+  const fs::space_info space = fs::space(dir, ec);
+  if (ec || space.available >= kFullDiskBytes) return "";
+  return " (" + std::generic_category().message(ENOSPC) + ": " + std::to_string(space.available) + " bytes free in " +
+         dir.string() + ")";
+}
+
+}  // namespace
+
 void write_atomically(const fs::path& target, const std::function<void(const fs::path& tmp)>& write) {
   std::error_code ec;
   if (target.has_parent_path()) {
@@ -83,9 +102,16 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   const fs::path tmp = temporary_sibling(target);
   try {
     write(tmp);
-  } catch (...) {
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    const std::string note = what.find(std::generic_category().message(ENOSPC)) == std::string::npos
+                                 ? full_disk_note(tmp.parent_path())
+                                 : "";
     fs::remove(tmp, ec);
-    throw;
+    if (note.empty()) throw;
+    if (const auto* input = dynamic_cast<const InputError*>(&e))
+      throw InputError(input->file(), input->problem() + note);
+    throw InternalError(what + note);
   }
   fs::rename(tmp, target, ec);
   if (ec) {

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
+#include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -68,6 +71,34 @@ void write_raw_png8(const std::string& path, int w, int h, int c, const std::vec
 }
 
 bool is_alpha(int channels, int c) { return (channels == 2 || channels == 4) && c == channels - 1; }
+
+TEST(ImageIoFullDisk, AnImageWriteOnAFullDiskSaysSoAndLeavesNothing) {
+  // A 64 KiB file system (tmpfs; needs the right to mount): OpenEXR, TIFF
+  // and PNG fail on it without saying why; the error says the disk is full.
+  test::TempDir dir;
+  const std::string mount = "mount -t tmpfs -o size=64k tmpfs '" + dir.str() + "' 2>/dev/null";
+  if (std::system(mount.c_str()) != 0) GTEST_SKIP() << "cannot mount a small tmpfs here (not root)";
+  // Noise no compressor shrinks below the 64 KiB (512² texels).
+  Image noise = Image::blank(512, 512, 3);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  for (float& v : noise.pixels) v = value(random);
+  for (const char* name : {"atlas.exr", "atlas.tif", "atlas.png"}) {
+    SCOPED_TRACE(name);
+    ImageWriteOptions write;
+    write.compression = ExrCompression::None;
+    try {
+      write_image(dir.file(name), noise, write);
+      ADD_FAILURE() << "wrote to a full disk";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));  // no partial file, no temporary
+  }
+  const std::string umount = "umount '" + dir.str() + "'";
+  EXPECT_EQ(std::system(umount.c_str()), 0);
+}
 
 TEST(ImageIoRoundTrip, ExrFloatIsExact) {
   TempDir dir;
