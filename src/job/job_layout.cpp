@@ -33,9 +33,15 @@ std::string material_pattern(const std::string& obj_pattern) {
 }
 
 void remove_frame_outputs(const JobOptions& options, int frame) {
+  std::vector<std::string> patterns = frame_output_patterns(options);
+  if (options.output.debug_views)
+    for (std::string& pattern : debug_view_patterns(options.output.dir)) patterns.push_back(std::move(pattern));
   std::error_code ec;
-  for (const std::string& pattern : frame_output_patterns(options))
-    std::filesystem::remove(FramePattern(pattern).path(frame), ec);
+  for (const std::string& pattern : patterns) std::filesystem::remove(FramePattern(pattern).path(frame), ec);
+}
+
+std::vector<std::string> debug_view_patterns(const std::string& dir) {
+  return {dir + "/debug/patches.####.ply", dir + "/debug/disks.####.ply"};
 }
 
 std::string state_pattern(const std::string& dir) { return dir + "/state/patches.####.bin"; }

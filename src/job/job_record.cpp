@@ -226,7 +226,7 @@ std::vector<fs::path> existing_job_outputs(const JobOptions& options) {
   JobOptions all_layers = options;
   all_layers.synthesis.aov = option_detail::split_choices(aov_layer_names());
   for (const std::string& pattern : frame_output_patterns(all_layers)) add_pattern(pattern);
-  for (const char* view : {"patches", "disks"}) add_pattern((out / "debug" / view).string() + ".####.ply");
+  for (const std::string& pattern : debug_view_patterns(out.string())) add_pattern(pattern);
   for (const char* name : {"metrics.jsonl", "summary.json", "report.html"}) add_file(out / "eval" / name);
   add_pattern((out / "eval/preview.####.png").string());
   add_pattern((out / "preview/frame.####.png").string());

@@ -196,9 +196,9 @@ class PatchTexturing final : public Texturing {
 
   void write_debug_views(Work& work) const {
     const ScopedStage stage(work.stats.seconds, "debug");
-    const std::string dir = options_.output.dir + "/debug";
-    write_patch_view(FramePattern(dir + "/patches.####.ply").path(work.frame), tracker_.patches());
-    write_disk_view(FramePattern(dir + "/disks.####.ply").path(work.frame), tracker_.patches(), work.frame);
+    const std::vector<std::string> views = debug_view_patterns(options_.output.dir);
+    write_patch_view(FramePattern(views[0]).path(work.frame), tracker_.patches());
+    write_disk_view(FramePattern(views[1]).path(work.frame), tracker_.patches(), work.frame);
   }
 
   Tracker tracker_;

@@ -267,12 +267,15 @@ TEST(Pipeline, FrameWhoseStateFailsLeavesNoAtlasOrMesh) {
   job.exemplar = dir.file("ex.png");
   job.output.dir = dir.file("out");
   job.synthesis.atlas.size = 64;
+  job.output.debug_views = true;
   std::filesystem::create_directories(dir.path() / "out" / "state" / "patches.0002.bin");
   EXPECT_THROW(run_job(job, silent_reporter()), InternalError);
   const auto out = dir.path() / "out";
   EXPECT_TRUE(std::filesystem::exists(out / "atlas.0001.exr"));
+  EXPECT_TRUE(std::filesystem::exists(out / "debug" / "patches.0001.ply"));
   EXPECT_TRUE(std::filesystem::exists(out / "state" / "patches.0001.bin"));
-  for (const char* name : {"atlas.0002.exr", "mesh.0002.obj", "atlas.0003.exr", "mesh.0003.obj"})
+  for (const char* name : {"atlas.0002.exr", "mesh.0002.obj", "atlas.0003.exr", "mesh.0003.obj",
+                           "debug/patches.0002.ply", "debug/disks.0002.ply", "debug/patches.0003.ply"})
     EXPECT_FALSE(std::filesystem::exists(out / name)) << name;  // frame 3 may have been in flight
 }
 

@@ -30,9 +30,14 @@ std::vector<std::string> frame_output_patterns(const JobOptions& options);
 /// The material file next to an OBJ pattern (`mesh.####.obj` → `mesh.####.mtl`).
 std::string material_pattern(const std::string& obj_pattern);
 
-/// Removes the atlas, AOVs and UV mesh of `frame` (when its state could not
-/// be written: a frame is complete with its state, or absent).
+/// Removes the atlas, AOVs and UV mesh of `frame`, and its debug views with
+/// --debug-views (when its state could not be written: a frame is complete
+/// with its state, or absent).
 void remove_frame_outputs(const JobOptions& options, int frame);
+
+/// The per-frame debug views of a job in `dir` (--debug-views): the patches
+/// and the disks, DIR/debug/patches.####.ply and DIR/debug/disks.####.ply.
+std::vector<std::string> debug_view_patterns(const std::string& dir);
 
 /// The state files of a job in `dir`: DIR/state/patches.####.bin.
 std::string state_pattern(const std::string& dir);
