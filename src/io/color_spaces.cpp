@@ -115,8 +115,8 @@ Image ColorSpaces::read_exemplar(const std::string& path, std::string& warning) 
       throw InputError(path, "names no colour space: give --exemplar-colorspace (" + config_->source + ", " +
                                  config_->spaces() + ")");
     if (!config_->has(stored.color_space))
-      throw InputError(
-          path, "names the colour space " + config_->unknown(stored.color_space) + ": give --exemplar-colorspace");
+      throw InputError(path, "names the colour space '" + stored.color_space + "', which " + config_->source +
+                                 " lacks (" + config_->spaces() + "): give --exemplar-colorspace");
     from = stored.color_space;
   }
   convert(stored.image, from, working_, stored.alpha);
