@@ -328,9 +328,14 @@ FrameMesh read_obj(const std::string& path, const std::string& bytes, const Read
 }  // namespace
 
 CleanReport clean_frame(const std::string& path, FrameMesh& mesh, const CleanOptions& options) {
-  const double diagonal = bounding_box(mesh).diagonal();
+  const BBox box = bounding_box(mesh);
+  const double diagonal = box.diagonal();
   CleanReport cleaned = clean_mesh(mesh, options);
   if (mesh.triangles.empty()) {
+    if (!(diagonal > 0.0)) {
+      throw InputError(path, "no surface: every vertex lies at one point (" + format_number(box.min.x()) + ", " +
+                                 format_number(box.min.y()) + ", " + format_number(box.min.z()) + ")");
+    }
     // Tolerances scale with the bounding box: one stray vertex far away
     // makes every real triangle "degenerate".
     throw InputError(path, "empty mesh: every face is degenerate at the scale of the bounding box (diagonal " +
@@ -338,6 +343,33 @@ CleanReport clean_frame(const std::string& path, FrameMesh& mesh, const CleanOpt
   }
   return cleaned;
 }
+
+namespace {
+
+/// InputError when the frame read has no vertices or no triangles, telling
+/// a frame without liquid (nothing in it) from a damaged one: an OBJ whose
+/// bytes hold no vertex line, faces that all have fewer than three corners.
+void check_not_empty(const std::string& path, const std::string& ext, const FrameMesh& mesh, std::size_t short_faces) {
+  if (mesh.positions.empty()) {
+    if (ext == ".obj") {
+      // OpenMesh reads what it can of a damaged OBJ and skips the rest.
+      const std::string bytes = read_file_bytes(path);
+      const bool text = std::all_of(bytes.begin(), bytes.end(), [](char c) {
+        const auto u = static_cast<unsigned char>(c);
+        return std::isprint(u) || std::isspace(u);
+      });
+      if (!text) throw InputError(path, "not a text OBJ (binary bytes, no vertex line): a damaged or misnamed file");
+    }
+    throw InputError(path, std::string("empty mesh (no vertices") + kNoLiquidHint + ")");
+  }
+  if (mesh.triangles.empty() && short_faces > 0) {
+    throw InputError(path, "no triangles: all " + std::to_string(short_faces) +
+                               " faces have fewer than three corners (a damaged file)");
+  }
+  if (mesh.triangles.empty()) throw InputError(path, std::string("empty mesh (no faces") + kNoLiquidHint + ")");
+}
+
+}  // namespace
 
 std::optional<double> read_stated_fps(const std::string& path) {
   if (lower_extension(path) != ".ply") return std::nullopt;
@@ -373,8 +405,7 @@ FrameMesh read_frame(const std::string& path, const ReadOptions& options, CleanR
     const std::string bytes = read_file_bytes(path);
     mesh = ext == ".ply" ? read_ply(path, bytes, options, short_faces) : read_obj(path, bytes, options, short_faces);
   }
-  if (mesh.positions.empty()) throw InputError(path, std::string("empty mesh (no vertices") + kNoLiquidHint + ")");
-  if (mesh.triangles.empty()) throw InputError(path, std::string("empty mesh (no faces") + kNoLiquidHint + ")");
+  check_not_empty(path, ext, mesh, short_faces);
 
   CleanReport cleaned;
   if (options.clean) {

@@ -288,6 +288,33 @@ TEST(MeshIo, AHeaderWithoutEndHeaderSaysSoWithoutEchoingTheBody) {
   EXPECT_NE(err.find("unknown keyword 'vertex_count'"), std::string::npos) << err;
 }
 
+TEST(MeshIo, ADamagedFrameIsNotTakenForAFrameWithoutLiquid) {
+  // A frame without liquid (no vertices) is told apart from a damaged one:
+  // binary bytes in an OBJ, faces of fewer than three corners, every vertex
+  // at one point.
+  TempDir dir;
+  const std::string no_velocity = "--velocity-from-positions";
+  ReadOptions positions_only;
+  positions_only.require_velocities = false;
+  write_file(dir.file("empty.obj"), "# nothing this frame\n");
+  EXPECT_NE(read_error(dir.file("empty.obj"), positions_only).find("a frame without liquid"), std::string::npos);
+  // Damaged past its first line, no NUL byte (those are refused on sight).
+  write_file(dir.file("binary.obj"), "# exported\n\x7f\x45\x4c\x46\x02\x01\x01\x81\x92 garbage\n");
+  std::string err = read_error(dir.file("binary.obj"), positions_only);
+  EXPECT_NE(err.find("not a text OBJ (binary bytes, no vertex line)"), std::string::npos) << err;
+  EXPECT_EQ(err.find("without liquid"), std::string::npos) << err;
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float vx\nproperty float vy\nproperty float vz\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  write_file(dir.file("lines.ply"), head + "0 0 0 0 0 0\n1 0 0 0 0 0\n0 1 0 0 0 0\n2 0 1\n2 1 2\n");
+  err = read_error(dir.file("lines.ply"));
+  EXPECT_NE(err.find("no triangles: all 2 faces have fewer than three corners"), std::string::npos) << err;
+  write_file(dir.file("point.ply"), head + "1 2 3 0 0 0\n1 2 3 0 0 0\n1 2 3 0 0 0\n3 0 1 2\n3 0 2 1\n");
+  err = read_error(dir.file("point.ply"));
+  EXPECT_NE(err.find("no surface: every vertex lies at one point (1, 2, 3)"), std::string::npos) << err;
+}
+
 TEST(MeshIo, ConcurrentReadsAgree) {
   TempDir dir;
   const Sample s;
