@@ -74,8 +74,9 @@ bool same_layout(const TexturedFrame& a, const TexturedFrame& b) {
          a.mesh.triangles == b.mesh.triangles;
 }
 
-/// The surface point that texel (x, y) of `frame`'s atlas shows (its centre
-/// in a uv triangle; the first corner of the nearest one otherwise).
+/// The surface point that texel (x, y) of `frame`'s atlas shows: its centre
+/// in the uv triangle that holds it (a gutter texel: in the nearest one,
+/// extended).
 Vec3 texel_point(const TexturedFrame& frame, int x, int y) {
   const int n = frame.atlas.width;
   const Vec2 q((x + 0.5) / n, 1.0 - (y + 0.5) / frame.atlas.height);
