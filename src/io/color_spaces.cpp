@@ -100,15 +100,15 @@ void ColorSpaces::convert(Image& image, const std::string& from, const std::stri
 Image ColorSpaces::read_exemplar(const std::string& path, std::string& warning) const {
   warning.clear();
   if (!managed()) {
-    const StoredImage stored = read_stored_image(path);
-    if (!stored.rules_apply) {
-      warning = path + ": names the colour space '" + stored.color_space +
+    ImageFile decoded = read_image_file(path, ImageValues::Decoded);
+    if (!decoded.rules_apply) {
+      warning = path + ": names the colour space '" + decoded.color_space +
                 "', which fluidtex reads as linear Rec. 709 unless colour is managed: give --exemplar-colorspace "
                 "(and --ocio-config or $OCIO)";
     }
-    return read_image(path);
+    return std::move(decoded.image);
   }
-  StoredImage stored = read_stored_image(path);
+  ImageFile stored = read_image_file(path, ImageValues::AsStored);
   std::string from = exemplar_;
   if (from.empty()) {
     if (stored.color_space.empty())

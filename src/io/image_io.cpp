@@ -214,27 +214,25 @@ Image read_spec_and_pixels(const std::string& path, long long max_pixels, OIIO::
 }  // namespace
 
 Image read_image(const std::string& path, long long max_pixels) {
-  OIIO::ImageSpec spec;
-  Image image = read_spec_and_pixels(path, max_pixels, spec);
-  linearise(image, spec);
-  return image;
+  return read_image_file(path, ImageValues::Decoded, max_pixels).image;
 }
 
-StoredImage read_stored_image(const std::string& path, long long max_pixels) {
+ImageFile read_image_file(const std::string& path, ImageValues values, long long max_pixels) {
   OIIO::ImageSpec spec;
-  StoredImage stored;
-  stored.image = read_spec_and_pixels(path, max_pixels, spec);
+  ImageFile file;
+  file.image = read_spec_and_pixels(path, max_pixels, spec);
+  if (values == ImageValues::Decoded) linearise(file.image, spec);
   // OpenImageIO reads every EXR as "Linear": an EXR names its space in a
   // `colorspace` attribute (as write_image writes it).
-  stored.color_space = spec.get_string_attribute("colorspace");
-  if (stored.color_space.empty()) stored.color_space = spec.get_string_attribute("oiio:ColorSpace");
-  stored.alpha = alpha_index(spec);
+  file.color_space = spec.get_string_attribute("colorspace");
+  if (file.color_space.empty()) file.color_space = spec.get_string_attribute("oiio:ColorSpace");
+  file.alpha = alpha_index(spec);
   float gamma = 1.0f;
   const Transfer transfer = transfer_of(spec, &gamma);
-  const std::string tag = to_lower(stored.color_space);
-  stored.rules_apply = tag.empty() || transfer != Transfer::Linear || tag.find("linear") != std::string::npos ||
-                       tag == "lin_srgb" || tag == "lin_rec709" || tag == "raw";
-  return stored;
+  const std::string tag = to_lower(file.color_space);
+  file.rules_apply = tag.empty() || transfer != Transfer::Linear || tag.find("linear") != std::string::npos ||
+                     tag == "lin_srgb" || tag == "lin_rec709" || tag == "raw";
+  return file;
 }
 
 namespace {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <set>
 
@@ -136,9 +135,14 @@ JobRecord read_job_record(const std::string& run_dir) {
     } else if (e.name == "ocio-sha1") {
       record.ocio_sha1 = value;
     } else if (e.name == "exemplar-size") {
-      char* end = nullptr;
-      const double size = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !(size > 0.0) || !std::isfinite(size))
+      const double size = [&] {
+        try {
+          return option_detail::parse_number("exemplar-size", value);
+        } catch (const InputError&) {
+          return 0.0;  // refused below, naming job.toml
+        }
+      }();
+      if (!(size > 0.0) || !std::isfinite(size))
         throw InputError(path, "[job] exemplar-size: '" + value + "' is not a length > 0");
       record.exemplar_size = size;
     } else if (e.name == "frames") {

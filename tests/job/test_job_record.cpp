@@ -155,6 +155,27 @@ TEST(JobRecord, ResumeAndSynthRefuseAnotherJobWithExit2AndOneLine) {
   refused("synth -o " + q(dir.file("noex")), "the job has no exemplar");
 }
 
+TEST(JobRecord, TheExemplarSizeReadsBackAndABadOneIsNamed) {
+  test::TempDir dir;
+  JobOptions o;
+  o.output.dir = dir.str();
+  JobRecord record = make_job_record(o, {1, 2});
+  record.exemplar_size = 0.25;
+  test::write_file(dir.path() / "job.toml", job_record_toml(record));
+  EXPECT_EQ(read_job_record(dir.str()).exemplar_size, 0.25);
+  for (const char* bad : {"\"-1\"", "\"abc\"", "\"nan\""}) {
+    test::write_file(dir.path() / "job.toml",
+                     job_record_toml(make_job_record(o, {1, 2})) + "exemplar-size=" + bad + "\n");
+    try {
+      read_job_record(dir.str());
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("[job] exemplar-size: '"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("' is not a length > 0"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(JobRecord, ACacheMountedElsewhereIsFoundWhereAStepIsToldAndCheckedByContent) {
   // The job is tracked with its input and exemplar in a/; on the render
   // node they are in b/ (a/ does not exist there).

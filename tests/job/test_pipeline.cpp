@@ -156,7 +156,7 @@ TEST(Pipeline, AnExemplarInAnotherColourSpaceIsConvertedOnce) {
     job.synthesis.color.working = "lin_a";
     job.synthesis.color.output = output;
     run_job(job, silent_reporter());
-    const StoredImage atlas = read_stored_image(FramePattern(job.output.atlas()).path(1));
+    const ImageFile atlas = read_image_file(FramePattern(job.output.atlas()).path(1), ImageValues::AsStored);
     EXPECT_EQ(atlas.color_space, output.empty() ? "lin_a" : "wide");
     const std::array<float, 3> expected =
         output.empty() ? test::wide_to_lin_a(0.2f, 0.4f, 0.8f) : std::array<float, 3>{0.2f, 0.4f, 0.8f};

@@ -40,11 +40,14 @@ inline constexpr int kMaxImageChannels = 16;
 /// not an image.
 Image read_image(const std::string& path, long long max_pixels = kMaxImagePixels);
 
-/// An image as its file stores it: the values as float, not decoded, and
-/// the colour space the file names (its `colorspace` attribute, else
-/// `oiio:ColorSpace`, which OpenImageIO sets to "Linear" for every EXR;
-/// empty when none).
-struct StoredImage {
+/// The values an image file is read as: decoded by read_image's rules, or
+/// as the file stores them (float, no transfer function).
+enum class ImageValues { Decoded, AsStored };
+
+/// An image file read: its values, and the colour space the file names (its
+/// `colorspace` attribute, else `oiio:ColorSpace`, which OpenImageIO sets to
+/// "Linear" for every EXR; empty when none).
+struct ImageFile {
   Image image;
   std::string color_space;
   int alpha = -1;  ///< the alpha channel, or -1
@@ -54,8 +57,8 @@ struct StoredImage {
   bool rules_apply = true;
 };
 
-/// The same checks and errors as read_image, without decoding.
-StoredImage read_stored_image(const std::string& path, long long max_pixels = kMaxImagePixels);
+/// read_image with what the file says of its colour, its values `values`.
+ImageFile read_image_file(const std::string& path, ImageValues values, long long max_pixels = kMaxImagePixels);
 
 enum class PixelDepth { Default, Half, Float, UInt8, UInt16 };
 
