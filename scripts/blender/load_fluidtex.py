@@ -53,6 +53,11 @@ What is built:
   Image Texture node (the frame's atlas, colour space 'Linear' -- Blender
   3.4's name for linear Rec.709; 'Linear Rec.709' is used where that is the
   name -- extension EXTEND) fed by a UV Map node (UVMap);
+* UDIM tiles (an atlas path with the <UDIM> token, as fluidtex writes with
+  `--atlas 'OUT/atlas.####.<UDIM>.exr'`): the frame's image is a tiled
+  image (source TILED, filepath with <UDIM>) with one tile per file of the
+  frame on disk (1001, 1002, ...); the UV mesh's coordinates are in UDIM
+  space, so the Image Texture node looks each corner up in its tile;
 * PLY with vx vy vz: a POINT / FLOAT_VECTOR attribute "velocity" on each
   mesh, in scene units per second, unchanged from the file;
 * visibility keys (hide_viewport and hide_render, constant): an object is
@@ -126,7 +131,8 @@ i.e. the PLY meshes of an input with velocities.
 
 --check prints one line of JSON on stdout: frames loaded, first/last frame,
 vertices and faces of the first frame, its image path and whether it
-exists, whether UVs are present, the colour space used, the collection,
+exists (of UDIM tiles: tile 1001), its UDIM tiles (1 for one image) and
+the largest UDIM tile its UVs reach, whether UVs are present, the colour space used, the collection,
 the mesh format and pattern, whether velocities were loaded (any frame) and
 the largest |velocity| of the first frame's attribute (scene units/s; 0.0
 without velocities).
@@ -613,6 +619,56 @@ def load_ply_frame(path, name, atlas_pattern, frame):
     return me, frame_path(atlas_pattern, frame), loop_uvs is not None, vel is not None
 
 
+UDIM_TOKEN = "<UDIM>"
+
+
+def first_file(image_path):
+    """The file an atlas path names: itself, or of UDIM tiles tile 1001."""
+    return image_path.replace(UDIM_TOKEN, "1001") if image_path else image_path
+
+
+def udim_tiles(image_path):
+    """UDIM numbers of the tiles of an atlas path with <UDIM> on disk, ascending."""
+    head, tail = image_path.split(UDIM_TOKEN, 1)
+    tiles = []
+    for path in glob.glob(glob.escape(head) + "[1-9][0-9][0-9][0-9]" + glob.escape(tail)):
+        tiles.append(int(path[len(head):len(head) + 4]))
+    return sorted(tiles)
+
+
+def uv_udim_max(me):
+    """The largest UDIM tile the mesh's UVs reach (1001 for uv in [0,1]^2)."""
+    if not me.uv_layers:
+        return 1001
+    best = 1001
+    for d in me.uv_layers[0].data:
+        u, v = d.uv
+        best = max(best, 1001 + min(9, max(0, int(math.floor(u)))) + 10 * max(0, int(math.floor(v))))
+    return best
+
+
+def load_image(image_path):
+    """The image datablock of an atlas path: tiled for a <UDIM> path (one
+    tile per file on disk), a reference for a file not made yet."""
+    if UDIM_TOKEN in image_path:
+        tiles = udim_tiles(image_path)
+        img = bpy.data.images.new(os.path.basename(image_path), 1, 1, float_buffer=True, tiled=True)
+        img.source = 'TILED'
+        img.filepath = image_path
+        for number in tiles:
+            if number != 1001:
+                img.tiles.new(tile_number=number)
+        if tiles:
+            img.reload()
+        return img
+    if os.path.isfile(image_path):
+        return bpy.data.images.load(image_path, check_existing=True)
+    img = bpy.data.images.new(os.path.basename(image_path), 1, 1, float_buffer=True)
+    img.source = 'FILE'
+    img.filepath = image_path
+    return img
+
+
 def build_material(name, image_path, colorspace):
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
@@ -634,12 +690,7 @@ def build_material(name, image_path, colorspace):
     nt.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
     nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
     if image_path:
-        if os.path.isfile(image_path):
-            img = bpy.data.images.load(image_path, check_existing=True)
-        else:  # a reference to the file, which may be made later
-            img = bpy.data.images.new(os.path.basename(image_path), 1, 1, float_buffer=True)
-            img.source = 'FILE'
-            img.filepath = image_path
+        img = load_image(image_path)
         img.colorspace_settings.name = colorspace
         img.alpha_mode = 'NONE'
         tex.image = img
@@ -708,8 +759,8 @@ def load(a):
             me, image, has_uv, has_vel = load_obj_frame(path, name, a.atlas, f)
         if not me.polygons:
             warn("%s has no faces" % path)
-        if image is not None and not os.path.isfile(image):
-            missing_atlas.append(image)  # still referenced: it may be made later
+        if image is not None and not os.path.isfile(first_file(image)):
+            missing_atlas.append(first_file(image))  # still referenced: it may be made later
         with_velocity += has_vel
         me.materials.append(build_material(name, image, colorspace))
         ob = bpy.data.objects.new(name, me)
@@ -719,7 +770,9 @@ def load(a):
         if summary is None:
             summary = {"vertices_first": len(me.vertices), "faces_first": len(me.polygons),
                        "image_first": image,
-                       "image_first_exists": bool(image and os.path.isfile(image)),
+                       "image_first_exists": bool(image and os.path.isfile(first_file(image))),
+                       "image_tiles_first": len(udim_tiles(image)) if image and UDIM_TOKEN in image else 1,
+                       "uv_udim_max_first": uv_udim_max(me),
                        "uvs": has_uv, "velocity_max_first": max_velocity(me)}
     if missing_atlas:
         warn("%d atlas files do not exist (first: %s)" % (len(missing_atlas), missing_atlas[0]))
@@ -773,7 +826,8 @@ def load(a):
                         "mesh_pattern": os.path.join(folder, pattern),
                         "velocities": with_velocity > 0})
         order = ["frames", "first_frame", "last_frame", "vertices_first", "faces_first",
-                 "image_first", "image_first_exists", "uvs", "colorspace", "collection",
+                 "image_first", "image_first_exists", "image_tiles_first", "uv_udim_max_first",
+                 "uvs", "colorspace", "collection",
                  "format", "mesh_pattern", "velocities", "velocity_max_first"]
         print(json.dumps({k: summary[k] for k in order}))
         sys.stdout.flush()

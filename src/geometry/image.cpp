@@ -18,4 +18,27 @@ void sample_bilinear(const Image& image, double x, double y, float* out, int cha
   }
 }
 
+const Image* TiledAtlas::tile_at(Vec2& uv) const {
+  if (!udim) {
+    uv = uv.cwiseMax(0.0).cwiseMin(1.0);
+    return &tiles.front();
+  }
+  const double column = std::floor(uv.x()), row = std::floor(uv.y());
+  if (!(column >= 0.0 && column < 10.0 && row >= 0.0 && row < 900.0)) return nullptr;
+  const int number = 1001 + static_cast<int>(column) + 10 * static_cast<int>(row);
+  const auto it = std::lower_bound(udims.begin(), udims.end(), number);
+  if (it == udims.end() || *it != number) return nullptr;
+  uv -= Vec2(column, row);
+  return &tiles[static_cast<std::size_t>(it - udims.begin())];
+}
+
+void TiledAtlas::sample(Vec2 uv, float* out, int channels) const {
+  const Image* tile = tile_at(uv);
+  if (!tile) {
+    for (int c = 0; c < (channels > 0 ? channels : first().channels); ++c) out[c] = 0.0f;
+    return;
+  }
+  sample_bilinear(*tile, u_to_px(uv.x(), tile->width), v_to_py(uv.y(), tile->height), out, channels);
+}
+
 }  // namespace fluidtex

@@ -38,7 +38,7 @@ RunFiles run_files(const std::string& dir) {
 FrameComparison compare_frame(const TexturedFrame& golden, const TexturedFrame& candidate, int frame,
                               const CompareOptions& options) {
   const auto points = surface_samples(*golden.geometry, options.samples, options.seed, 7);
-  const int channels = golden.atlas.channels;
+  const int channels = golden.atlas.first().channels;
   std::vector<double> difference(points.size());
   tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
     const auto& [f, bary] = points[i];
@@ -66,25 +66,30 @@ FrameComparison compare_frame(const TexturedFrame& golden, const TexturedFrame& 
   return out;
 }
 
-/// Whether two frames share their layout: the same atlas size and UV mesh,
-/// so that texel (x, y) of one is texel (x, y) of the other.
+/// Whether two frames share their layout: the same atlas tiles and sizes
+/// and the same UV mesh, so that texel (x, y) of a tile of one is texel
+/// (x, y) of that tile of the other.
 bool same_layout(const TexturedFrame& a, const TexturedFrame& b) {
-  return a.atlas.width == b.atlas.width && a.atlas.height == b.atlas.height && a.mesh.uvs == b.mesh.uvs &&
-         a.mesh.uv_triangles == b.mesh.uv_triangles && a.mesh.positions == b.mesh.positions &&
-         a.mesh.triangles == b.mesh.triangles;
+  if (a.atlas.udims != b.atlas.udims || a.atlas.udim != b.atlas.udim) return false;
+  for (std::size_t t = 0; t < a.atlas.tiles.size(); ++t) {
+    if (a.atlas.tiles[t].width != b.atlas.tiles[t].width || a.atlas.tiles[t].height != b.atlas.tiles[t].height)
+      return false;
+  }
+  return a.mesh.uvs == b.mesh.uvs && a.mesh.uv_triangles == b.mesh.uv_triangles &&
+         a.mesh.positions == b.mesh.positions && a.mesh.triangles == b.mesh.triangles;
 }
 
-/// The surface point that texel (x, y) of `frame`'s atlas shows: its centre
-/// in the uv triangle that holds it (a gutter texel: in the nearest one,
-/// extended).
-Vec3 texel_point(const TexturedFrame& frame, int x, int y) {
-  const int n = frame.atlas.width;
-  const Vec2 q((x + 0.5) / n, 1.0 - (y + 0.5) / frame.atlas.height);
+/// The surface point that texel (x, y) of `frame`'s atlas tile `t` shows:
+/// its centre in the uv triangle that holds it (a gutter texel: in the
+/// nearest one, extended).
+Vec3 texel_point(const TexturedFrame& frame, std::size_t t, int x, int y) {
+  const Image& tile = frame.atlas.tiles[t];
+  const Vec2 q = udim_origin(frame.atlas.udims[t]) + Vec2(px_to_u(x + 0.5, tile.width), py_to_v(y + 0.5, tile.height));
   double best = std::numeric_limits<double>::infinity();
   Vec3 out = Vec3::Zero();
   for (std::size_t f = 0; f < frame.mesh.uv_triangles.size(); ++f) {
-    const Tri& t = frame.mesh.uv_triangles[f];
-    const Vec2 &a = frame.mesh.uvs[t[0]], &b = frame.mesh.uvs[t[1]], &c = frame.mesh.uvs[t[2]];
+    const Tri& tri = frame.mesh.uv_triangles[f];
+    const Vec2 &a = frame.mesh.uvs[tri[0]], &b = frame.mesh.uvs[tri[1]], &c = frame.mesh.uvs[tri[2]];
     const double area = signed_area(a, b, c);
     if (area == 0.0) continue;
     const Vec3 l(signed_area(q, b, c) / area, signed_area(a, q, c) / area, signed_area(a, b, q) / area);
@@ -98,27 +103,32 @@ Vec3 texel_point(const TexturedFrame& frame, int x, int y) {
 }
 
 /// The texel-by-texel part of a comparison of two frames of one layout:
-/// every chart texel, the largest difference in any channel.
+/// every chart texel of every tile, the largest difference in any channel.
 void compare_texels(const TexturedFrame& golden, const TexturedFrame& candidate, FrameComparison& out) {
-  const std::vector<char> charts = chart_mask(golden.mesh, golden.atlas.width);
-  const Image& a = golden.atlas;
-  const Image& b = candidate.atlas;
-  std::size_t worst = 0;
-  for (std::size_t i = 0; i < charts.size(); ++i) {
-    if (!charts[i]) continue;
-    ++out.texels;
-    for (int c = 0; c < a.channels; ++c) {
-      double d = std::abs(double(a.pixel(i)[c]) - double(b.pixel(i)[c]));
-      if (std::isnan(d)) d = std::numeric_limits<double>::infinity();
-      if (d > out.texel_max) {
-        out.texel_max = d;
-        worst = i;
+  std::size_t worst = 0, worst_tile = 0;
+  for (std::size_t t = 0; t < golden.atlas.tiles.size(); ++t) {
+    const Image& a = golden.atlas.tiles[t];
+    const Image& b = candidate.atlas.tiles[t];
+    const std::vector<char> charts = chart_mask(golden.mesh, a.width, udim_origin(golden.atlas.udims[t]));
+    for (std::size_t i = 0; i < charts.size(); ++i) {
+      if (!charts[i]) continue;
+      ++out.texels;
+      for (int c = 0; c < a.channels; ++c) {
+        double d = std::abs(double(a.pixel(i)[c]) - double(b.pixel(i)[c]));
+        if (std::isnan(d)) d = std::numeric_limits<double>::infinity();
+        if (d > out.texel_max) {
+          out.texel_max = d;
+          worst = i;
+          worst_tile = t;
+        }
       }
     }
   }
-  out.worst_x = static_cast<int>(worst % a.width);
-  out.worst_y = static_cast<int>(worst / a.width);
-  if (out.texel_max > 0.0) out.worst_point = texel_point(golden, out.worst_x, out.worst_y);
+  const int width = golden.atlas.tiles[worst_tile].width;
+  out.worst_udim = golden.atlas.udim ? golden.atlas.udims[worst_tile] : 0;
+  out.worst_x = static_cast<int>(worst % width);
+  out.worst_y = static_cast<int>(worst / width);
+  if (out.texel_max > 0.0) out.worst_point = texel_point(golden, worst_tile, out.worst_x, out.worst_y);
 }
 
 }  // namespace
@@ -137,10 +147,10 @@ Comparison compare_runs(const CompareOptions& options, Reporter& reporter) {
     reporter.progress(i, golden.frames.size(), "compare");
     const TexturedFrame a = read_run_frame(golden.atlas, golden.mesh, frame);
     const TexturedFrame b = read_run_frame(candidate.atlas, candidate.mesh, frame);
-    if (a.atlas.channels != b.atlas.channels) {
-      throw InputError(
-          FramePattern(candidate.atlas).path(frame),
-          std::to_string(b.atlas.channels) + " channels, the golden atlas " + std::to_string(a.atlas.channels));
+    if (a.atlas.first().channels != b.atlas.first().channels) {
+      throw InputError(FramePattern(candidate.atlas).first_file(frame), std::to_string(b.atlas.first().channels) +
+                                                                            " channels, the golden atlas " +
+                                                                            std::to_string(a.atlas.first().channels));
     }
     FrameComparison f = compare_frame(a, b, frame, options);
     if (same_layout(a, b)) {
@@ -188,10 +198,11 @@ std::string format_comparison(const Comparison& comparison, const CompareOptions
   }
   for (const FrameComparison& f : comparison.frames) {
     if (f.texels == 0 || f.texel_max <= options.max_tolerance) continue;
-    char line[240];
+    char line[240], tile[24] = "";
+    if (f.worst_udim > 0) std::snprintf(tile, sizeof tile, " of tile %d", f.worst_udim);
     std::snprintf(line, sizeof line,
-                  "frame %d: worst texel (%d, %d) differs by %.5f, at (%.6g, %.6g, %.6g) on the surface\n", f.frame,
-                  f.worst_x, f.worst_y, f.texel_max, f.worst_point.x(), f.worst_point.y(), f.worst_point.z());
+                  "frame %d: worst texel (%d, %d)%s differs by %.5f, at (%.6g, %.6g, %.6g) on the surface\n", f.frame,
+                  f.worst_x, f.worst_y, tile, f.texel_max, f.worst_point.x(), f.worst_point.y(), f.worst_point.z());
     s << line;
   }
   s << comparison_verdict(comparison, options);

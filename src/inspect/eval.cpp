@@ -49,14 +49,20 @@ void patch_figures(const Tracker& tracker, const JobOptions& job, const Exemplar
   row.emplace_back("uncovered_area", uncovered_area_fraction(*tracker.surface(), coverage, tracker.coverage_spacing()));
   SynthesisOptions so = synthesis_options(o, job.synthesis);
   so.aov = true;
-  const Atlas atlas = build_atlas(*tracker.surface(), job.synthesis.atlas);
-  const TexelMap map = build_texel_map(*tracker.surface(), atlas);
-  const SynthesisResult synth = synthesize(*tracker.surface(), atlas, map, patches, exemplar, so);
-  row.emplace_back("uncovered_texels", synth.uncovered_fraction());
+  const Atlas atlas = build_atlas(*tracker.surface(), job_atlas_options(job));
   std::vector<double> count;
-  for (std::size_t t = 0; t < map.face.size(); ++t) {
-    if (map.face[t] >= 0) count.push_back(synth.count.pixels[t]);
+  std::size_t chart_texels = 0, uncovered_texels = 0;
+  for (int tile = 0; tile < atlas.tiles; ++tile) {
+    const TexelMap map = build_texel_map(*tracker.surface(), atlas, tile);
+    const SynthesisResult synth = synthesize(*tracker.surface(), atlas, map, patches, exemplar, so);
+    chart_texels += synth.chart_texels;
+    uncovered_texels += synth.uncovered_texels;
+    for (std::size_t t = 0; t < map.face.size(); ++t) {
+      if (map.face[t] >= 0) count.push_back(synth.count.pixels[t]);
+    }
   }
+  row.emplace_back("uncovered_texels",
+                   chart_texels ? static_cast<double>(uncovered_texels) / static_cast<double>(chart_texels) : 0.0);
   row.emplace_back("ghosting_mean",
                    count.empty() ? std::nan("") : std::accumulate(count.begin(), count.end(), 0.0) / count.size());
   row.emplace_back("ghosting_p95", quantile(count, 0.95));
@@ -78,18 +84,19 @@ void patch_figures(const Tracker& tracker, const JobOptions& job, const Exemplar
   row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
 }
 
-/// Contrast and spectrum of the atlas the run wrote, against the exemplar at
-/// the atlas's texel density, and the exemplar's size on the surface asked
-/// for and measured.
+/// Contrast and spectrum of the atlas the run wrote (of UDIM tiles, 1001),
+/// against the exemplar at the atlas's texel density, and the exemplar's
+/// size on the surface asked for and measured.
 void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved, const SynthesisJobOptions& so,
                      const Exemplar& exemplar, MetricRow& row) {
-  const std::vector<char> mask = chart_mask(frame.mesh, frame.atlas.width);
-  const std::vector<double> contrast = contrast_ratio(frame.atlas, mask, exemplar);
+  const Image& atlas = frame.atlas.first();
+  const std::vector<char> mask = chart_mask(frame.mesh, atlas.width);
+  const std::vector<double> contrast = contrast_ratio(atlas, mask, exemplar);
   const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
   for (std::size_t c = 0; c < contrast.size(); ++c)
     row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
   const double tile = resolved.exemplar_tile_size(so.exemplar_size);
-  const double density = texel_density(frame.mesh, frame.atlas.width);
+  const double density = texel_density(frame.mesh, atlas.width);
   row.emplace_back("texel_density", density);
   const double scale =
       exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
@@ -98,11 +105,11 @@ void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved
     // 64 windows a frame and 32 exemplar crops: with 8 of each a frame's
     // figure depends on which 8 places of the surface the chart layout
     // puts first in scan order.
-    const auto windows = chart_windows(mask, frame.atlas.width, n, 64);
+    const auto windows = chart_windows(mask, atlas.width, n, 64);
     if (windows.empty() || !(scale > 0.0)) continue;
     const std::vector<double> reference = exemplar_spectrum(exemplar, scale, n, 32);
     double sum = 0.0;
-    for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(frame.atlas, x, y, n), reference);
+    for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(atlas, x, y, n), reference);
     spectrum = sum / static_cast<double>(windows.size());
     row.emplace_back("spectrum_crop", n);
     break;
@@ -112,7 +119,7 @@ void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved
   // the atlas shows through the UV mesh.
   const double span = exemplar_span(resolved, so);
   row.emplace_back("exemplar_size", span);
-  row.emplace_back("exemplar_size_measured", measured_exemplar_span(frame.atlas, frame.mesh, exemplar, span));
+  row.emplace_back("exemplar_size_measured", measured_exemplar_span(atlas, frame.mesh, exemplar, span));
 }
 
 /// Texture–flow agreement of two frames measured: warping error and optical

@@ -71,7 +71,7 @@ WarpingError warping_error(const FrameMesh& mesh, const TexturedFrame& at_t, con
   const auto points = surface_samples(mesh, samples, seed, 1);
   const auto others = surface_samples(*at_next.geometry, samples, seed, 2);
   WarpingError out;
-  const int nc = std::min(at_t.atlas.channels, at_next.atlas.channels);
+  const int nc = std::min(at_t.atlas.first().channels, at_next.atlas.first().channels);
   double sigma = 0.0;
   for (int c = 0; c < nc; ++c) sigma += exemplar.stddev()[std::min(c, exemplar.channels() - 1)];
   sigma = std::max(sigma / nc, 1e-6);

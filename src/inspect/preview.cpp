@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "fluidtex/inspect/overlays.h"
+#include "fluidtex/inspect/textured_frame.h"
 #include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/io/uv_mesh_io.h"
@@ -85,7 +86,7 @@ PreviewSummary run_preview(const PreviewOptions& given) {
   std::vector<std::string> labels;
   for (std::size_t j = 0; j < frames.size(); ++j) {
     const int f = frames[j];
-    RenderResult r = render(read_uv_mesh(meshes.path(f)), read_image(atlases.path(f), kMaxAtlasPixels), options.render);
+    RenderResult r = render(read_uv_mesh(meshes.path(f)), read_frame_atlas(atlases.pattern(), f), options.render);
     if (sequence) draw_overlays(options, *sequence, f, r);
     if (!options.sheet_only) write_image(out.path(f), r.color);
     if (options.sheet > 0 && j % static_cast<std::size_t>(options.sheet) == 0) {

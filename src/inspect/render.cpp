@@ -31,11 +31,11 @@ Vec3 view_dir(View view) {  // towards the camera
   return {0, 0, 1};
 }
 
-/// The atlas at uv (v up, clamped to [0,1]²) as RGB (grey repeated).
-void sample_uv(const Image& im, double u, double v, float out[3]) {
+/// The atlas at uv (v up) as RGB (grey repeated).
+void sample_uv(const TiledAtlas& atlas, const Vec2& uv, float out[3]) {
   float px[3] = {0, 0, 0};
-  sample_bilinear(im, u_to_px(std::clamp(u, 0.0, 1.0), im.width), v_to_py(std::clamp(v, 0.0, 1.0), im.height), px, 3);
-  for (int c = 0; c < 3; ++c) out[c] = px[std::min(c, im.channels - 1)];
+  atlas.sample(uv, px, 3);
+  for (int c = 0; c < 3; ++c) out[c] = px[std::min(c, atlas.first().channels - 1)];
 }
 
 constexpr float kBackground = 0.12f;
@@ -179,6 +179,10 @@ GBuffer rasterize(const std::vector<Vec3>& positions, const std::vector<Tri>& tr
 }
 
 RenderResult render(const UVMesh& mesh, const Image& atlas, const RenderOptions& options) {
+  return render(mesh, TiledAtlas::one(atlas), options);
+}
+
+RenderResult render(const UVMesh& mesh, const TiledAtlas& atlas, const RenderOptions& options) {
   RenderResult r;
   r.camera = make_camera(mesh.positions, options);
   r.gbuffer = rasterize(mesh.positions, mesh.triangles, r.camera);
@@ -195,7 +199,7 @@ RenderResult render(const UVMesh& mesh, const Image& atlas, const RenderOptions&
     const Vec3& l = g.bary[i];
     const Vec2 uv = interpolate(mesh.uvs, mesh.uv_triangles[f], l);
     float rgb[3];
-    sample_uv(atlas, uv.x(), uv.y(), rgb);
+    sample_uv(atlas, uv, rgb);
     double shade = 1.0;
     if (options.shade && !mesh.normals.empty()) {
       Vec3 n = interpolate(mesh.normals, mesh.triangles[f], l);
@@ -205,6 +209,10 @@ RenderResult render(const UVMesh& mesh, const Image& atlas, const RenderOptions&
     for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = static_cast<float>(rgb[c] * shade);
   }
   return r;
+}
+
+Image render_textured(const UVMesh& mesh, const TiledAtlas& atlas, const RenderOptions& options) {
+  return render(mesh, atlas, options).color;
 }
 
 Image render_textured(const UVMesh& mesh, const Image& atlas, const RenderOptions& options) {

@@ -13,11 +13,14 @@
 
 namespace fluidtex {
 
-std::vector<char> chart_mask(const UVMesh& mesh, int size) {
+std::vector<char> chart_mask(const UVMesh& mesh, int size, const Vec2& origin) {
   std::vector<char> mask(static_cast<std::size_t>(size) * size, 0);
   for (const Tri& t : mesh.uv_triangles) {
     std::array<Vec2, 3> p;
-    for (int k = 0; k < 3; ++k) p[k] = Vec2(u_to_px(mesh.uvs[t[k]].x(), size), v_to_py(mesh.uvs[t[k]].y(), size));
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 uv = mesh.uvs[t[k]] - origin;
+      p[k] = Vec2(u_to_px(uv.x(), size), v_to_py(uv.y(), size));
+    }
     const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
     const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[2] - p[0]).x() * (p[1] - p[0]).y();
     if (area == 0.0) continue;

@@ -10,7 +10,7 @@
 
 namespace fluidtex {
 
-TexturedFrame::TexturedFrame(UVMesh m, Image a) : mesh(std::move(m)), atlas(std::move(a)) {
+TexturedFrame::TexturedFrame(UVMesh m, TiledAtlas a) : mesh(std::move(m)), atlas(std::move(a)) {
   auto g = std::make_unique<FrameMesh>();
   g->positions = mesh.positions;
   g->triangles = mesh.triangles;
@@ -22,27 +22,43 @@ TexturedFrame::TexturedFrame(UVMesh m, Image a) : mesh(std::move(m)), atlas(std:
 void TexturedFrame::color_at(const Vec3& p, float* out) const {
   const SurfacePoint s = surface->closest_point(p);
   if (!s.valid()) {
-    for (int c = 0; c < atlas.channels; ++c) out[c] = 0.0f;
+    for (int c = 0; c < atlas.first().channels; ++c) out[c] = 0.0f;
     return;
   }
   const Tri& t = mesh.uv_triangles[s.face];
-  const Vec2 uv = interpolate(mesh.uvs, t, s.bary);
-  sample_bilinear(atlas, u_to_px(uv.x(), atlas.width), v_to_py(uv.y(), atlas.height), out);
+  atlas.sample(interpolate(mesh.uvs, t, s.bary), out);
+}
+
+TiledAtlas read_frame_atlas(const std::string& atlas_pattern, int frame) {
+  const FramePattern pattern(atlas_pattern);
+  const std::string first = pattern.first_file(frame);
+  if (!std::filesystem::exists(first))
+    throw InputError(first, "missing: the run has no atlas for frame " + std::to_string(frame));
+  TiledAtlas atlas;
+  atlas.udim = pattern.has_udim();
+  atlas.udims = atlas.udim ? pattern.udims(frame) : std::vector<int>{1001};
+  for (int udim : atlas.udims) {
+    const std::string path = pattern.path(frame, udim);
+    Image tile = read_image(path, kMaxAtlasPixels);
+    // Colours are looked up into fixed buffers of kMaxLookupChannels.
+    if (tile.channels > kMaxLookupChannels) {
+      throw InputError(path, std::to_string(tile.channels) + " channels (a fluidtex atlas has at most " +
+                                 std::to_string(kMaxLookupChannels) + ")");
+    }
+    if (!atlas.tiles.empty() && tile.channels != atlas.first().channels) {
+      throw InputError(path, std::to_string(tile.channels) + " channels, tile 1001 " +
+                                 std::to_string(atlas.first().channels) + " (the tiles of one atlas share them)");
+    }
+    atlas.tiles.push_back(std::move(tile));
+  }
+  return atlas;
 }
 
 TexturedFrame read_run_frame(const std::string& atlas_pattern, const std::string& mesh_pattern, int frame) {
-  const std::string atlas_path = FramePattern(atlas_pattern).path(frame);
   const std::string mesh_path = FramePattern(mesh_pattern).path(frame);
-  if (!std::filesystem::exists(atlas_path))
-    throw InputError(atlas_path, "missing: the run has no atlas for frame " + std::to_string(frame));
+  TiledAtlas atlas = read_frame_atlas(atlas_pattern, frame);
   if (!std::filesystem::exists(mesh_path))
     throw InputError(mesh_path, "missing: the run has no UV mesh for frame " + std::to_string(frame));
-  Image atlas = read_image(atlas_path, kMaxAtlasPixels);
-  // Colours are looked up into fixed buffers of kMaxLookupChannels.
-  if (atlas.channels > kMaxLookupChannels) {
-    throw InputError(atlas_path, std::to_string(atlas.channels) + " channels (a fluidtex atlas has at most " +
-                                     std::to_string(kMaxLookupChannels) + ")");
-  }
   return TexturedFrame(read_uv_mesh(mesh_path), std::move(atlas));
 }
 

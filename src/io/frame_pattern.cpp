@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <regex>
 #include <set>
+#include <string_view>
 
 #include "fluidtex/util/error.h"
 
@@ -91,6 +92,47 @@ FramePattern::FramePattern(const std::string& pattern) : pattern_(pattern) {
   if (suffix_.find('/') != std::string::npos) {
     throw InputError(pattern, "the frame number token must be in the file name, not in a folder");
   }
+  const std::size_t udim = pattern.find(kUdimToken);
+  has_udim_ = udim != std::string::npos;
+  if (has_udim_ && pattern.find(kUdimToken, udim + 1) != std::string::npos)
+    throw InputError(pattern, "more than one <UDIM> token in the pattern");
+  if (has_udim_ && pattern.find('/', udim) != std::string::npos)
+    throw InputError(pattern, "the <UDIM> token must be in the file name, not in a folder");
+}
+
+std::string FramePattern::path(int frame, int udim) const {
+  std::string p = path(frame);
+  if (has_udim_) p.replace(p.find(kUdimToken), std::string_view(kUdimToken).size(), std::to_string(udim));
+  return p;
+}
+
+std::vector<int> FramePattern::udims(int frame) const {
+  namespace fs = std::filesystem;
+  if (!has_udim_) return {};
+  const fs::path p(path(frame));
+  const std::string name = p.filename().string();
+  const std::size_t at = name.find(kUdimToken);
+  const std::string before = name.substr(0, at), after = name.substr(at + std::string_view(kUdimToken).size());
+  std::set<int> tiles;
+  std::error_code ec;
+  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string file = entry.path().filename().string();
+    if (file.size() != before.size() + 4 + after.size() || !file.starts_with(before) || !file.ends_with(after))
+      continue;
+    const std::string digits = file.substr(before.size(), 4);
+    int udim = 0;
+    const auto [ptr, perr] = std::from_chars(digits.data(), digits.data() + 4, udim);
+    if (perr == std::errc() && ptr == digits.data() + 4 && udim >= 1001 && udim <= 9999) tiles.insert(udim);
+  }
+  return {tiles.begin(), tiles.end()};
+}
+
+std::vector<std::string> FramePattern::files(int frame) const {
+  if (!has_udim_) return {path(frame)};
+  std::vector<std::string> out;
+  for (int udim : udims(frame)) out.push_back(path(frame, udim));
+  return out;
 }
 
 bool FramePattern::has_token(const std::string& s) { return !find_tokens(s).empty(); }
@@ -103,6 +145,16 @@ std::string FramePattern::path(int frame) const {
 
 std::vector<int> FramePattern::discover() const {
   namespace fs = std::filesystem;
+  if (has_udim_) {  // the frames whose tile 1001 exists
+    auto first_tile = [](std::string s) {
+      if (const std::size_t at = s.find(kUdimToken); at != std::string::npos)
+        s.replace(at, std::string_view(kUdimToken).size(), "1001");
+      return s;
+    };
+    FramePattern tile(*this);
+    tile.prefix_ = first_tile(prefix_), tile.suffix_ = first_tile(suffix_), tile.has_udim_ = false;
+    return tile.discover();
+  }
   const fs::path prefix_path(prefix_);
   fs::path dir = prefix_path.parent_path();
   // prefix "dir/name." -> folder "dir", file prefix "name."; prefix "dir/" -> file prefix "".

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "fluidtex/io/frame_pattern.h"
 #include "fluidtex/io/mesh_io.h"
 #include "fluidtex/io/vdb_io.h"
 #include "fluidtex/util/atomic_file.h"
@@ -14,6 +15,8 @@ namespace fluidtex {
 
 void InputOptions::validate() const {
   if (pattern.empty()) throw InputError("", "-i/--input: an input frame pattern is required");
+  if (pattern.find(kUdimToken) != std::string::npos)
+    throw InputError(pattern, "-i/--input: <UDIM> names the tiles of a texture, not of a mesh");
   check_options(*this);
   if (!velocity_vdb.empty() && velocity_from_positions) {
     throw InputError("", "--velocity-vdb and --velocity-from-positions both give the velocities: choose one");

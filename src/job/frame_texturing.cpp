@@ -61,27 +61,43 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   return synth;
 }
 
+AtlasOptions job_atlas_options(const JobOptions& options) {
+  AtlasOptions atlas = options.synthesis.atlas;
+  atlas.max_tiles = FramePattern(options.output.atlas()).has_udim() ? kMaxUdimTiles : 1;
+  return atlas;
+}
+
 double exemplar_span(const TrackingOptions& resolved, const SynthesisJobOptions& so) {
   return resolved.exemplar_tile_size(so.exemplar_size) / resolved.uv_scale;
 }
 
 namespace {
 
-/// The frame's layers (kFrameLayers) that the job writes, each with its
-/// pixel encoding; returns the material's maps for the OBJ.
-MaterialMaps write_frame_layers(const JobOptions& options, int frame, const FrameSynthesis& textured,
-                                const ImageWriteOptions& color_write) {
-  MaterialMaps maps(std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string());
+/// The frame's layers (kFrameLayers) that the job writes, of tile `udim`
+/// (the UDIM number; patterns without <UDIM> ignore it), each with its pixel
+/// encoding.
+void write_frame_layers(const JobOptions& options, int frame, int udim, const FrameSynthesis& textured,
+                        const ImageWriteOptions& color_write) {
   for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
     const std::string pattern = options.layer_pattern(i);
     if (pattern.empty()) continue;
     const FrameLayer& layer = kFrameLayers[i];
+    write_image(FramePattern(pattern).path(frame, udim), layer.make(textured), layer_write_options(layer, color_write));
+  }
+}
+
+/// The material of frame `frame`'s OBJ: its atlas and its height and normal
+/// layers, UDIM tiles by the <UDIM> token.
+MaterialMaps frame_material(const JobOptions& options, int frame, double bump_height) {
+  MaterialMaps maps(std::filesystem::absolute(FramePattern(options.output.atlas()).path(frame)).string());
+  for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
+    const std::string pattern = options.layer_pattern(i);
+    if (pattern.empty()) continue;
     const std::string path = std::filesystem::absolute(FramePattern(pattern).path(frame)).string();
-    write_image(path, layer.make(textured), layer_write_options(layer, color_write));
-    if (layer.slot == MaterialSlot::Height) {
+    if (kFrameLayers[i].slot == MaterialSlot::Height) {
       maps.displacement = path;
-      maps.bump_height = textured.bump_height;
-    } else if (layer.slot == MaterialSlot::Normal) {
+      maps.bump_height = bump_height;
+    } else if (kFrameLayers[i].slot == MaterialSlot::Normal) {
       maps.normal = path;
     }
   }
@@ -107,50 +123,92 @@ ImageWriteOptions atlas_write_options(const JobOptions& options, int frame, doub
   return write;
 }
 
-/// A frame's atlas, texel map, texels (`texels(atlas, map)`, either method)
-/// and writes, with the synthesis numbers and stage seconds in `stats`.
-/// `tile_size`: the exemplar's size on the surface (--bump-height's unit).
+/// A synthesis's counts added into `total` (its images are left).
+void add_counts(SynthesisResult& total, const SynthesisResult& tile) {
+  total.chart_texels += tile.chart_texels;
+  total.uncovered_texels += tile.uncovered_texels;
+  total.margin_texels += tile.margin_texels;
+  total.clamped_texels += tile.clamped_texels;
+  total.binned_triangles += tile.binned_triangles;
+  total.projected_triangles += tile.projected_triangles;
+}
+
+/// What making a frame's tiles took: their summed counts and seconds.
+struct TilesMade {
+  SynthesisResult total;  ///< counts only
+  double synth_seconds = 0.0, write_seconds = 0.0;
+};
+
+/// Each tile of `atlas`: its texel map, texels (`texels(atlas, map)`, either
+/// method) and writes, the atlas and its layers. UDIM tiles are made and
+/// written one at a time, the last first: a frame whose tile 1001 exists
+/// has all of its tiles. `tile_size`: the exemplar's size on the surface
+/// (--bump-height's unit).
+template <class Texels>
+TilesMade make_tiles(const SurfaceIndex& surface, const Atlas& atlas, const JobOptions& options,
+                     const ColorSpaces& colors, int frame, double tile_size, Texels&& texels) {
+  const FramePattern atlas_pattern(options.output.atlas());
+  const ImageWriteOptions write = atlas_write_options(options, frame, tile_size, colors);
+  TilesMade made;
+  for (int tile = atlas.tiles - 1; tile >= 0; --tile) {
+    auto t0 = Clock::now();
+    const TexelMap map = build_texel_map(surface, atlas, tile);
+    const SynthesisResult result = texels(atlas, map);
+    made.synth_seconds += seconds_since(t0);
+    // A texel that is not finite is a bug, never an output (options bound
+    // the scales that could overflow).
+    for (float v : result.color.pixels) {
+      if (!std::isfinite(v))
+        throw InternalError("frame " + std::to_string(frame) + ": the atlas has non-finite texels");
+    }
+    add_counts(made.total, result);
+    t0 = Clock::now();
+    const int udim = udim_number(tile);
+    ImageWriteOptions tile_write = write;
+    if (atlas_pattern.has_udim()) tile_write.metadata.emplace_back("fluidtex:udim", std::to_string(udim));
+    write_image(atlas_pattern.path(frame, udim),
+                write.color_space.empty() ? result.color : colors.to_output(result.color), tile_write);
+    write_frame_layers(options, frame, udim,
+                       FrameSynthesis{atlas, map, result, options.synthesis.bump_height * tile_size}, tile_write);
+    made.write_seconds += seconds_since(t0);
+  }
+  return made;
+}
+
+/// The synthesis numbers of a frame's atlas in `stats`.
+void add_atlas_stats(const Atlas& atlas, const TilesMade& made, FrameStats& stats) {
+  const SynthesisResult& total = made.total;
+  stats.uncovered_fraction = total.uncovered_fraction();
+  stats.extra.emplace_back("packing_efficiency", atlas.packing_efficiency);
+  stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
+  stats.extra.emplace_back("atlas_tiles", static_cast<double>(atlas.tiles));
+  stats.extra.emplace_back("chart_texels", static_cast<double>(total.chart_texels));
+  stats.extra.emplace_back("margin_texels", static_cast<double>(total.margin_texels));
+  stats.extra.emplace_back("binned_triangles", static_cast<double>(total.binned_triangles));
+  stats.extra.emplace_back("projected_triangles", static_cast<double>(total.projected_triangles));
+  stats.extra.emplace_back("clamped_fraction",
+                           total.chart_texels ? static_cast<double>(total.clamped_texels) / total.chart_texels : 0.0);
+  stats.extra.emplace_back("texels_per_second", made.synth_seconds > 0 ? total.chart_texels / made.synth_seconds : 0.0);
+}
+
+/// A frame's atlas, its tiles (make_tiles) and its UV mesh, with the
+/// synthesis numbers and stage seconds in `stats`.
 template <class Texels>
 void atlas_frame(const SurfaceIndex& surface, const JobOptions& options, const ColorSpaces& colors, int frame,
                  FrameStats& stats, double tile_size, Texels&& texels) {
-  const SynthesisJobOptions& so = options.synthesis;
   auto t0 = Clock::now();
-  const Atlas atlas = build_atlas(surface, so.atlas);
+  const Atlas atlas = build_atlas(surface, job_atlas_options(options));
   stats.seconds.emplace_back("atlas", seconds_since(t0));
-  t0 = Clock::now();
-  const TexelMap map = build_texel_map(surface, atlas);
-  const SynthesisResult result = texels(atlas, map);
-  const double synth_seconds = seconds_since(t0);
-  stats.seconds.emplace_back("synthesis", synth_seconds);
-
-  // A texel that is not finite is a bug, never an output (options bound the
-  // scales that could overflow).
-  for (float v : result.color.pixels) {
-    if (!std::isfinite(v)) throw InternalError("frame " + std::to_string(frame) + ": the atlas has non-finite texels");
-  }
-
-  t0 = Clock::now();
-  const ImageWriteOptions write = atlas_write_options(options, frame, tile_size, colors);
-  write_image(FramePattern(options.output.atlas()).path(frame),
-              write.color_space.empty() ? result.color : colors.to_output(result.color), write);
+  const TilesMade made = make_tiles(surface, atlas, options, colors, frame, tile_size, std::forward<Texels>(texels));
+  stats.seconds.emplace_back("synthesis", made.synth_seconds);
   // An OBJ names its atlas through a material (<stem>.mtl, map_Kd; disp,
   // bump and norm for the height and normal atlases), so a DCC imports it
   // textured.
-  const MaterialMaps maps =
-      write_frame_layers(options, frame, FrameSynthesis{atlas, map, result, so.bump_height * tile_size}, write);
-  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas), maps);
-  stats.seconds.emplace_back("write", seconds_since(t0));
-
-  stats.uncovered_fraction = result.uncovered_fraction();
-  stats.extra.emplace_back("packing_efficiency", atlas.packing_efficiency);
-  stats.extra.emplace_back("charts", static_cast<double>(atlas.charts.size()));
-  stats.extra.emplace_back("chart_texels", static_cast<double>(result.chart_texels));
-  stats.extra.emplace_back("margin_texels", static_cast<double>(result.margin_texels));
-  stats.extra.emplace_back("binned_triangles", static_cast<double>(result.binned_triangles));
-  stats.extra.emplace_back("projected_triangles", static_cast<double>(result.projected_triangles));
-  stats.extra.emplace_back(
-      "clamped_fraction", result.chart_texels ? static_cast<double>(result.clamped_texels) / result.chart_texels : 0.0);
-  stats.extra.emplace_back("texels_per_second", synth_seconds > 0 ? result.chart_texels / synth_seconds : 0.0);
+  t0 = Clock::now();
+  write_uv_mesh(FramePattern(options.output.mesh()).path(frame), atlas_uv_mesh(surface, atlas),
+                frame_material(options, frame, options.synthesis.bump_height * tile_size));
+  stats.seconds.emplace_back("write", made.write_seconds + seconds_since(t0));
+  add_atlas_stats(atlas, made, stats);
 }
 
 }  // namespace

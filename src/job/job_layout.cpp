@@ -37,7 +37,9 @@ void remove_frame_outputs(const JobOptions& options, int frame) {
   if (options.output.debug_views)
     for (std::string& pattern : debug_view_patterns(options.output.dir)) patterns.push_back(std::move(pattern));
   std::error_code ec;
-  for (const std::string& pattern : patterns) std::filesystem::remove(FramePattern(pattern).path(frame), ec);
+  for (const std::string& pattern : patterns) {
+    for (const std::string& file : FramePattern(pattern).files(frame)) std::filesystem::remove(file, ec);
+  }
 }
 
 std::vector<std::string> debug_view_patterns(const std::string& dir) {
@@ -61,10 +63,10 @@ std::size_t remove_interrupted_temporaries(const JobOptions& options,
 
 void check_output_paths(const JobOptions& options) {
   namespace fs = std::filesystem;
-  // Each file as frame 1 of its pattern, absolute: `a.####.exr` and
-  // `a.%04d.exr` are one file.
+  // Each file as frame 1 (tile 1001) of its pattern, absolute: `a.####.exr`
+  // and `a.%04d.exr` are one file.
   auto file_of = [](const std::string& pattern) {
-    return fs::absolute(FramePattern(pattern).path(1)).lexically_normal().string();
+    return fs::absolute(FramePattern(pattern).first_file(1)).lexically_normal().string();
   };
   std::vector<std::pair<std::string, std::string>> outputs;  // file, what writes it
   for (const FrameOutput& o : labelled_frame_outputs(options)) outputs.emplace_back(file_of(o.pattern), o.what);

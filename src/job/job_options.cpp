@@ -13,9 +13,11 @@ namespace fluidtex {
 namespace {
 
 std::string checked_pattern(const std::string& given, const std::string& fallback,
-                            std::initializer_list<const char*> extensions, const char* option) {
+                            std::initializer_list<const char*> extensions, const char* option, bool tiles = false) {
   std::string pattern = given.empty() ? fallback : given;
-  FramePattern parsed(pattern);  // throws without a frame token
+  const FramePattern parsed(pattern);  // throws without a frame token
+  if (parsed.has_udim() && !tiles)
+    throw InputError(pattern, std::string(option) + ": <UDIM> names the tiles of a texture, not of a mesh");
   const std::string ext = lower_extension(pattern);
   for (const char* e : extensions) {
     if (ext == e) return pattern;
@@ -28,7 +30,7 @@ std::string checked_pattern(const std::string& given, const std::string& fallbac
 }  // namespace
 
 std::string OutputOptions::atlas() const {
-  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"}, "--atlas");
+  return checked_pattern(atlas_pattern, dir + "/atlas.####.exr", {".exr", ".png", ".tif", ".tiff"}, "--atlas", true);
 }
 
 std::string OutputOptions::mesh() const {
@@ -41,10 +43,12 @@ std::string JobOptions::layer_pattern(std::size_t layer) const {
   const FrameLayer& l = kFrameLayers[layer];
   if (l.option) {
     const std::string& given = output.layer_patterns[layer];
-    return given.empty() ? std::string() : checked_pattern(given, "", {".exr"}, ("--" + std::string(l.option)).c_str());
+    return given.empty() ? std::string()
+                         : checked_pattern(given, "", {".exr"}, ("--" + std::string(l.option)).c_str(), true);
   }
   const bool asked = std::find(synthesis.aov.begin(), synthesis.aov.end(), l.name) != synthesis.aov.end();
-  return asked ? output.dir + "/aov/" + l.name + ".####.exr" : std::string();
+  const char* tiles = FramePattern(output.atlas()).has_udim() ? ".<UDIM>" : "";
+  return asked ? output.dir + "/aov/" + l.name + ".####" + tiles + ".exr" : std::string();
 }
 
 void SynthesisJobOptions::validate() const {
@@ -60,12 +64,19 @@ void JobOptions::validate() const {
     throw InputError("", "-e/--exemplar: an exemplar image is required (or --track-only)");
   }
   if (output.dir.empty()) throw InputError("", "-o/--output: an output folder is required");
-  (void)output.atlas();
+  const bool tiles = FramePattern(output.atlas()).has_udim();
   (void)output.mesh();
   for (std::size_t i = 0; i < kFrameLayerCount; ++i) {
-    if (!layer_pattern(i).empty() && kFrameLayers[i].option && synthesis.track_only)
-      throw InputError("",
-                       "--" + std::string(kFrameLayers[i].option) + ": a tracking step (--track-only) writes no atlas");
+    const std::string pattern = layer_pattern(i);
+    if (pattern.empty() || !kFrameLayers[i].option) continue;
+    const std::string option = "--" + std::string(kFrameLayers[i].option);
+    if (synthesis.track_only) throw InputError("", option + ": a tracking step (--track-only) writes no atlas");
+    if (FramePattern(pattern).has_udim() != tiles) {
+      throw InputError(pattern, option + (tiles ? ": the atlas is in UDIM tiles (<UDIM> in --atlas); so is this layer: "
+                                                  "put <UDIM> in its pattern too"
+                                                : ": <UDIM> here but not in --atlas: the layers share the atlas's "
+                                                  "tiles"));
+    }
   }
   if (synthesis.compression != SynthesisJobOptions{}.compression && lower_extension(output.atlas()) != ".exr") {
     throw InputError("", "--compression: applies to EXR atlases, not " + output.atlas());

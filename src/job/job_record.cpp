@@ -215,8 +215,9 @@ std::vector<fs::path> existing_job_outputs(const JobOptions& options) {
   const auto add_pattern = [&](const std::string& pattern) {
     const FramePattern fp(pattern);
     for (int f : fp.discover()) {
-      const fs::path p = fp.path(f);
-      if (!fs::is_directory(fs::symlink_status(p, ec))) files.insert(p);  // outputs are files
+      for (const fs::path p : fp.files(f)) {
+        if (!fs::is_directory(fs::symlink_status(p, ec))) files.insert(p);  // outputs are files
+      }
     }
   };
   add_file(out / "job.toml");

@@ -274,7 +274,7 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const
       if (!written[i]) continue;
       const int frame = sequence.frames()[i];
       const bool textured = std::all_of(patterns.begin(), patterns.end(), [&](const std::string& p) {
-        return std::filesystem::exists(FramePattern(p).path(frame));
+        return std::filesystem::exists(FramePattern(p).first_file(frame));
       });
       // A tracking step's frame is complete with its state, or textured by
       // synth (which may have pruned the state).

@@ -12,6 +12,7 @@
 #include "fluidtex/job/frame_texturing.h"
 #include "fluidtex/job/job_layout.h"
 #include "fluidtex/job/job_record.h"
+#include "fluidtex/texture/atlas.h"
 #include "fluidtex/tracking/tracker.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/timing.h"
@@ -72,11 +73,17 @@ JobOptions synthesis_job(const JobRecord& record, const SynthRequest& request) {
   return options;
 }
 
-/// The output files of `frame` (atlas, UV mesh and material, AOVs).
-std::vector<fs::path> frame_outputs(const JobOptions& options, int frame) {
+/// The output files of `frame` that a textured frame has (atlas, UV mesh
+/// and material, AOVs; of UDIM tiles, 1001); with `every_tile`, every file
+/// it may have (each UDIM tile).
+std::vector<fs::path> frame_outputs(const JobOptions& options, int frame, bool every_tile = false) {
   std::vector<fs::path> files;
-  for (const std::string& pattern : frame_output_patterns(options))
-    files.emplace_back(FramePattern(pattern).path(frame));
+  for (const std::string& pattern : frame_output_patterns(options)) {
+    const FramePattern fp(pattern);
+    files.emplace_back(fp.first_file(frame));
+    for (int tile = 1; every_tile && fp.has_udim() && tile < kMaxUdimTiles; ++tile)
+      files.emplace_back(fp.path(frame, udim_number(tile)));
+  }
   return files;
 }
 
@@ -128,7 +135,7 @@ void remove_own_temporaries(const JobOptions& options, const std::vector<int>& f
                             Reporter& reporter) {
   std::set<std::string> owned = {fs::path(stats_path).filename().string()};
   for (int f : frames) {
-    for (const fs::path& p : frame_outputs(options, f)) owned.insert(p.filename().string());
+    for (const fs::path& p : frame_outputs(options, f, true)) owned.insert(p.filename().string());
   }
   if (const std::size_t stale =
           remove_interrupted_temporaries(options, [&](const std::string& name) { return owned.count(name) > 0; }))

@@ -13,6 +13,7 @@
 
 #include "fluidtex/geometry/disk_region.h"
 #include "fluidtex/geometry/parameterization.h"
+#include "fluidtex/util/check.h"
 #include "fluidtex/util/error.h"
 #include "fluidtex/util/strings.h"
 
@@ -21,6 +22,7 @@ namespace fluidtex {
 void AtlasOptions::validate() const {
   check_options(*this);
   if (!(normal_cone > -1.0 && normal_cone < 1.0)) throw InputError("", "chart normal cone must be in (-1, 1)");
+  FLUIDTEX_CHECK(max_tiles >= 1 && max_tiles <= kMaxUdimTiles);
 }
 
 namespace {
@@ -100,9 +102,10 @@ FlatChart flat_face(const FrameMesh& mesh, int f) {
   return out;
 }
 
-/// A chart's placement: rotation by r·90°, and the lower-left texel of its
-/// footprint's box (gutter included).
+/// A chart's placement: its tile, rotation by r·90°, and the lower-left
+/// texel of its footprint's box (gutter included).
 struct Placement {
+  int tile = 0;
   int rotation = 0;
   Eigen::Vector2i origin{0, 0};
   Eigen::Vector2i extent{0, 0};
@@ -179,17 +182,82 @@ Profile chart_profile(const FlatChart& fc, int r, double density, int gutter, in
   return out;
 }
 
+/// One tile's horizon: per column of cells, the top of what is placed.
+class Horizon {
+ public:
+  explicit Horizon(int cells) : cols_(cells), rows_(cells), horizon_(cells, 0), below_(cells + 1, 0) {}
+
+  /// Where a chart with these profiles (four rotations) comes to rest wasting
+  /// the least area under it, raising the maximum counting as a full row
+  /// wasted (ties: lower column, then lower rotation); false when it does
+  /// not fit.
+  bool best_fit(const std::array<Profile, 4>& profiles, int& best_x, int& best_y, int& best_r) const {
+    long best_score = std::numeric_limits<long>::max();
+    best_x = -1;
+    for (int r = 0; r < 4; ++r) {
+      const Profile& p = profiles[r];
+      const int w = static_cast<int>(p.bottom.size());
+      if (w > cols_ || p.top_max > rows_) continue;
+      for (int x = 0; x + w <= cols_; ++x) {
+        int y = 0;
+        long waste = 0;
+        if (!rest(p, x, y, waste)) continue;
+        waste += static_cast<long>(std::max(0, y + p.top_max - max_)) * cols_;
+        if (waste < best_score) best_score = waste, best_x = x, best_y = y, best_r = r;
+      }
+    }
+    return best_x >= 0;
+  }
+
+  bool is_empty() const { return max_ == 0; }
+
+  void place(const Profile& p, int x, int y) {
+    for (std::size_t c = 0; c < p.bottom.size(); ++c) {
+      if (p.bottom[c] <= p.top[c]) horizon_[x + c] = std::max(horizon_[x + c], y + p.top[c]);
+    }
+    for (int c = x; c < cols_; ++c) below_[c + 1] = below_[c] + horizon_[c];
+    max_ = std::max(max_, y + p.top_max);
+  }
+
+ private:
+  /// The height `y` at which profile `p` dropped at column `x` rests, and the
+  /// area it leaves empty under it; false when it sticks out of the top.
+  bool rest(const Profile& p, int x, int& y, long& waste) const {
+    const int w = static_cast<int>(p.bottom.size());
+    if (p.dense) {  // the common case, in closed form: the same sums
+      const int* h = horizon_.data() + x;
+      const int* b = p.bottom.data();
+      for (int c = 0; c < w; ++c) y = std::max(y, h[c] - b[c]);
+      if (y + p.top_max > rows_) return false;
+      waste = static_cast<long>(w) * y + p.sum_bottom - (below_[x + w] - below_[x]);
+      return true;
+    }
+    for (int c = 0; c < w; ++c) {
+      if (p.bottom[c] <= p.top[c]) y = std::max(y, horizon_[x + c] - p.bottom[c]);
+    }
+    if (y + p.top_max > rows_) return false;
+    for (int c = 0; c < w; ++c) {
+      if (p.bottom[c] <= p.top[c]) waste += y + p.bottom[c] - horizon_[x + c];
+    }
+    return true;
+  }
+
+  int cols_, rows_;
+  std::vector<int> horizon_;
+  std::vector<long> below_;  // below_[x]: Σ horizon_[0, x)
+  int max_ = 0;
+};
+
 /// Packs chart shapes, not their boxes (the "Tetris" packing of Lévy et
-/// al. 2002, Sec. 5): the atlas keeps a horizon (per column of cells, the
-/// top of what is placed); each chart, largest first, is dropped in the
+/// al. 2002, Sec. 5) into at most `max_tiles` tiles of `size` texels: each
+/// chart, largest first, is dropped in the first tile where it fits, at the
 /// column and rotation (of four) where it comes to rest wasting the least
-/// area under it, where raising the horizon's maximum counts as wasting a
-/// full row. Concave footprints nest into each other. Deterministic (ties:
-/// lower column, then lower rotation). False when the charts do not fit.
-bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, int gutter,
+/// area under it (Horizon). Concave footprints nest into each other. A new
+/// tile opens when no open one holds the chart. Deterministic. False when
+/// the charts do not fit.
+bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, int gutter, int max_tiles,
                  std::vector<Placement>& out) {
   const int cell = std::max(1, size / 512);
-  const int cols = size / cell, rows = size / cell;
   const std::size_t m = flat.size();
   std::vector<std::array<Profile, 4>> profiles(m);
   std::vector<double> area(m, 0.0);
@@ -202,49 +270,22 @@ bool pack_shapes(const std::vector<FlatChart>& flat, double density, int size, i
   std::vector<int> order(m);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
-  std::vector<int> horizon(cols, 0);
-  std::vector<long> below(cols + 1, 0);  // below[x]: Σ horizon[0, x)
-  int horizon_max = 0;
+  std::vector<Horizon> tiles(1, Horizon(size / cell));
   out.assign(m, Placement{});
   for (int i : order) {
-    long best_score = std::numeric_limits<long>::max();
-    int best_x = -1, best_y = 0, best_r = 0;
-    for (int r = 0; r < 4; ++r) {
-      const Profile& p = profiles[i][r];
-      const int w = static_cast<int>(p.bottom.size());
-      if (w > cols || p.top_max > rows) continue;
-      for (int x = 0; x + w <= cols; ++x) {
-        int y = 0;
-        long waste = 0;
-        if (p.dense) {  // the common case, in closed form: the same sums
-          const int* h = horizon.data() + x;
-          const int* b = p.bottom.data();
-          for (int c = 0; c < w; ++c) y = std::max(y, h[c] - b[c]);
-          if (y + p.top_max > rows) continue;
-          waste = static_cast<long>(w) * y + p.sum_bottom - (below[x + w] - below[x]);
-        } else {
-          for (int c = 0; c < w; ++c) {
-            if (p.bottom[c] <= p.top[c]) y = std::max(y, horizon[x + c] - p.bottom[c]);
-          }
-          if (y + p.top_max > rows) continue;
-          for (int c = 0; c < w; ++c) {
-            if (p.bottom[c] <= p.top[c]) waste += y + p.bottom[c] - horizon[x + c];
-          }
-        }
-        waste += static_cast<long>(std::max(0, y + p.top_max - horizon_max)) * cols;
-        if (waste < best_score) best_score = waste, best_x = x, best_y = y, best_r = r;
-      }
+    int x = 0, y = 0, r = 0;
+    std::size_t t = 0;
+    while (!tiles[t].best_fit(profiles[i], x, y, r)) {
+      if (++t < tiles.size()) continue;
+      // A chart that an empty tile does not hold fits nowhere.
+      if (static_cast<int>(tiles.size()) == max_tiles || tiles.back().is_empty()) return false;
+      tiles.emplace_back(size / cell);
     }
-    if (best_x < 0) return false;
-    const Profile& p = profiles[i][best_r];
-    for (std::size_t c = 0; c < p.bottom.size(); ++c) {
-      if (p.bottom[c] <= p.top[c]) horizon[best_x + c] = std::max(horizon[best_x + c], best_y + p.top[c]);
-    }
-    for (int x = best_x; x < cols; ++x) below[x + 1] = below[x] + horizon[x];
-    horizon_max = std::max(horizon_max, best_y + p.top_max);
-    out[i].rotation = best_r;
-    out[i].origin = Eigen::Vector2i(best_x * cell, best_y * cell);
-    out[i].extent = p.extent;
+    tiles[t].place(profiles[i][r], x, y);
+    out[i].tile = static_cast<int>(t);
+    out[i].rotation = r;
+    out[i].origin = Eigen::Vector2i(x * cell, y * cell);
+    out[i].extent = profiles[i][r].extent;
   }
   return true;
 }
@@ -313,7 +354,8 @@ std::vector<std::vector<int>> split_chart(const SurfaceIndex& surface, const std
 /// Steps 1–2: segment into disk-like charts bounded by a normal cone,
 /// flatten each (in parallel, each into its own slot), and cut in two
 /// (split_chart) every chart LSCM could not flatten, flattened with too much
-/// area distortion, or that fills less than min_fill of its box; its pieces
+/// area distortion, that fills less than min_fill of its box, or that is
+/// longer than one tile at a given texel density; its pieces
 /// are flattened and tested in the next round. A flattened chart is cut
 /// across its long side (the pieces are swept from one end, a sweep the
 /// disk growth keeps whole), one LSCM could not flatten by distance from its
@@ -321,6 +363,12 @@ std::vector<std::vector<int>> split_chart(const SurfaceIndex& surface, const std
 /// always flat, so the rounds end.
 FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& options) {
   const FrameMesh& mesh = surface.mesh();
+  // At a given density, a chart must fit in one tile with its gutter (and
+  // the packer's cell of rounding): a longer one is cut too.
+  const double max_span =
+      options.texel_density
+          ? (options.size - 2 * options.gutter - 2 - std::max(1, options.size / 512)) / *options.texel_density
+          : std::numeric_limits<double>::infinity();
   const std::size_t nf = mesh.triangles.size();
   FlatCharts out;
   std::vector<std::vector<int>> chart_faces = grow_charts(surface, options);
@@ -338,7 +386,8 @@ FlatCharts segment_and_flatten(const SurfaceIndex& surface, const AtlasOptions& 
       }
       flattened[c] = flatten_chart(mesh, chart_faces[c], flat[c], stretch[c]);
       ok[c] = flattened[c] && stretch[c] <= options.max_stretch &&
-              (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill);
+              (chart_faces[c].size() <= options.min_fill_faces || box_fill(flat[c]) >= options.min_fill) &&
+              (flat[c].max - flat[c].min).maxCoeff() <= max_span;
     });
     std::vector<std::vector<int>> next;
     for (std::size_t c = 0; c < chart_faces.size(); ++c) {
@@ -381,7 +430,7 @@ double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& f
   std::vector<Placement> trial;
   for (int iter = 0; iter < 10; ++iter) {
     const double mid = 0.5 * (lo + hi);
-    if (pack_shapes(flat, mid, n, options.gutter, trial)) {
+    if (pack_shapes(flat, mid, n, options.gutter, 1, trial)) {
       lo = mid;
       placement.swap(trial);
     } else {
@@ -398,7 +447,9 @@ double pack_density(const SurfaceIndex& surface, const std::vector<FlatChart>& f
 
 /// Step 3, at a given density: the smallest square, a multiple of 64 texels
 /// up to options.size, into which the charts pack at `density` (by
-/// bisection over the multiples), and their placements there.
+/// bisection over the multiples), and their placements there; when one
+/// options.size square is not enough, as many such tiles as the charts need
+/// (up to options.max_tiles).
 int pack_size(const SurfaceIndex& surface, const std::vector<FlatChart>& flat, const AtlasOptions& options,
               double density, std::vector<Placement>& placement) {
   constexpr int kStep = 64;
@@ -408,26 +459,33 @@ int pack_size(const SurfaceIndex& surface, const std::vector<FlatChart>& flat, c
   int hi = options.size / kStep;
   std::vector<Placement> trial;
   int fits = 0;
-  if (hi >= lo && pack_shapes(flat, density, hi * kStep, options.gutter, trial)) {
+  if (hi >= lo && pack_shapes(flat, density, hi * kStep, options.gutter, 1, trial)) {
     fits = hi;
     placement.swap(trial);
     while (lo < fits) {
       const int mid = (lo + fits) / 2;
-      if (pack_shapes(flat, density, mid * kStep, options.gutter, trial)) {
+      if (pack_shapes(flat, density, mid * kStep, options.gutter, 1, trial)) {
         fits = mid;
         placement.swap(trial);
       } else {
         lo = mid + 1;
       }
     }
+    return fits * kStep;
   }
-  if (fits == 0) {
-    throw InputError("", "atlas: at --texel-density " + format_number(density) + " the surface (area " +
-                             format_number(surface.area()) + ") needs more than " + std::to_string(options.size) + "x" +
-                             std::to_string(options.size) +
-                             " texels: lower --texel-density or raise --atlas-size (at most 32768)");
+  const std::string square = std::to_string(options.size) + "x" + std::to_string(options.size) + " texels";
+  const std::string needs = "atlas: at --texel-density " + format_number(density) + " the surface (area " +
+                            format_number(surface.area()) + ")";
+  if (options.max_tiles == 1) {
+    throw InputError("", needs + " needs more than " + square +
+                             ": lower --texel-density, raise --atlas-size (at most 32768) or put <UDIM> in --atlas "
+                             "for UDIM tiles");
   }
-  return fits * kStep;
+  if (!pack_shapes(flat, density, options.size, options.gutter, options.max_tiles, placement)) {
+    throw InputError("", needs + " needs more than " + std::to_string(options.max_tiles) + " UDIM tiles of " + square +
+                             ", or has a chart larger than one: lower --texel-density or raise --atlas-size");
+  }
+  return options.size;
 }
 
 }  // namespace
@@ -446,6 +504,7 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
       options.texel_density ? *options.texel_density : pack_density(surface, charts.flat, options, placement);
   if (options.texel_density) atlas.size = pack_size(surface, charts.flat, options, density, placement);
   atlas.texels_per_unit = density;
+  for (const Placement& p : placement) atlas.tiles = std::max(atlas.tiles, p.tile + 1);
 
   // 4. Corner positions in texels.
   atlas.charts.resize(charts.faces.size());
@@ -453,6 +512,7 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
   for (std::size_t c = 0; c < charts.faces.size(); ++c) {
     Chart& chart = atlas.charts[c];
     chart.faces = std::move(charts.faces[c]);
+    chart.tile = placement[c].tile;
     chart.origin = placement[c].origin;
     chart.extent = placement[c].extent;
     chart.stretch = charts.stretch[c];
@@ -467,7 +527,7 @@ Atlas build_atlas(const SurfaceIndex& surface, const AtlasOptions& options) {
     }
     chart_area_px += chart.area3 * density * density;
   }
-  atlas.packing_efficiency = chart_area_px / (static_cast<double>(atlas.size) * atlas.size);
+  atlas.packing_efficiency = chart_area_px / (static_cast<double>(atlas.size) * atlas.size * atlas.tiles);
   return atlas;
 }
 
@@ -482,13 +542,14 @@ UVMesh atlas_uv_mesh(const SurfaceIndex& surface, const Atlas& atlas) {
   std::unordered_map<std::uint64_t, int> shared;  // (vertex, chart) -> uv index
   const double inv = 1.0 / atlas.size;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Vec2 tile = udim_offset(atlas.charts[atlas.face_chart[f]].tile);
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t key =
           (static_cast<std::uint64_t>(mesh.triangles[f][k]) << 32) | static_cast<std::uint32_t>(atlas.face_chart[f]);
       auto [it, inserted] = shared.emplace(key, static_cast<int>(out.uvs.size()));
       if (inserted) {
         const Vec2& p = atlas.corner_px[f][k];
-        out.uvs.emplace_back(p.x() * inv, 1.0 - p.y() * inv);
+        out.uvs.emplace_back(tile.x() + p.x() * inv, tile.y() + (1.0 - p.y() * inv));
       }
       out.uv_triangles[f][k] = it->second;
     }

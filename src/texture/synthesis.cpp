@@ -292,16 +292,18 @@ Vec3 TexelMap::bary(std::size_t i) const {
   return l / l.sum();
 }
 
-TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas) {
+TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas, int tile) {
   const int n = atlas.size;
   const std::size_t nf = surface.mesh().triangles.size();
   TexelMap map;
   map.size = n;
+  map.tile = tile;
   map.face.assign(static_cast<std::size_t>(n) * n, -1);
   map.corner_px = atlas.corner_px;
   // Charts own disjoint rectangles: rasterise them in parallel, faces of a
   // chart in order (the first face to claim a texel keeps it).
   tbb::parallel_for(std::size_t(0), atlas.charts.size(), [&](std::size_t c) {
+    if (atlas.charts[c].tile != tile) return;
     for (int f : atlas.charts[c].faces) {
       const auto& p = atlas.corner_px[f];
       const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
@@ -484,6 +486,34 @@ struct Tally {
 
 /// One frame's synthesis: binning, then per tile raster, projected fallback
 /// and resolve.
+/// One patch's binned triangles, before they join the frame's bins.
+struct PatchBins {
+  std::vector<std::pair<int, Job>> placed;  // (tile, job); job.regions indexes `lists`
+  std::vector<std::vector<Region>> lists;
+  std::size_t binned = 0, projected = 0;
+};
+
+/// The patches' bins into `bins`, in patch order (region lists renumbered).
+void merge_patch_bins(std::vector<PatchBins>& per_patch, TriangleBins& bins) {
+  for (PatchBins& b : per_patch) {
+    const int offset = static_cast<int>(bins.region_lists.size());
+    for (auto& list : b.lists) bins.region_lists.push_back(std::move(list));
+    for (auto [tile, job] : b.placed) {
+      if (job.regions >= 0) job.regions += offset;
+      bins.jobs[tile].push_back(job);
+    }
+    bins.binned += b.binned;
+    bins.projected += b.projected;
+  }
+}
+
+/// How a patch triangle reaches the texels of the tile being synthesised.
+enum class Route : std::uint8_t {
+  Raster,     ///< in atlas space, within one chart of the tile
+  Projected,  ///< through the surface faces under it (projected_regions)
+  Elsewhere,  ///< not at all: it lies within a chart of another tile
+};
+
 class Synthesizer {
  public:
   Synthesizer(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map, const std::vector<Patch>& patches,
@@ -505,8 +535,7 @@ class Synthesizer {
   std::vector<char> live_tiles() const;
   std::vector<char> chart_border_faces() const;
   bool box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const;
-  bool in_one_chart(const Patch& patch, const Tri& tri, const std::vector<char>& chart_border,
-                    std::array<Vec2, 3>& px) const;
+  Route route(const Patch& patch, const Tri& tri, const std::vector<char>& chart_border, std::array<Vec2, 3>& px) const;
   std::vector<Region> projected_regions(const Patch& patch, const Tri& tri, std::vector<int>& touched) const;
   TriangleBins bin_triangles() const;
   void accumulate_located(TileSums& tile, Tally& tally) const;
@@ -594,25 +623,28 @@ bool Synthesizer::box_in_chart(const Vec2& lo, const Vec2& hi, int chart) const 
   return true;
 }
 
-/// Whether patch triangle `tri` can be rasterised in one chart: its corners
-/// (their atlas positions written to `px`) lie in one chart, and next to
-/// another chart, its atlas box does too.
-bool Synthesizer::in_one_chart(const Patch& patch, const Tri& tri, const std::vector<char>& chart_border,
-                               std::array<Vec2, 3>& px) const {
+/// How patch triangle `tri` reaches this tile's texels: rasterised in one
+/// chart when its corners (their atlas positions written to `px`) lie in one
+/// chart of the tile and, next to another chart, its atlas box does too;
+/// not at all when they lie in one chart of another tile, away from other
+/// charts; the projected way otherwise.
+Route Synthesizer::route(const Patch& patch, const Tri& tri, const std::vector<char>& chart_border,
+                         std::array<Vec2, 3>& px) const {
   const int c0 = atlas_.face_chart[patch.projections[tri[0]].face];
   bool near_border = false;
   for (int k = 0; k < 3; ++k) {
     const int f = patch.projections[tri[k]].face;
-    if (atlas_.face_chart[f] != c0) return false;
+    if (atlas_.face_chart[f] != c0) return Route::Projected;
     near_border = near_border || chart_border[f];
   }
+  if (atlas_.charts[c0].tile != map_.tile) return near_border ? Route::Projected : Route::Elsewhere;
   for (int k = 0; k < 3; ++k) {
     const SurfacePoint& s = patch.projections[tri[k]];
     const auto& corner = atlas_.corner_px[s.face];
     px[k] = interpolate(s.bary, corner[0], corner[1], corner[2]);
   }
   const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
-  return !near_border || box_in_chart(lo, hi, c0);
+  return !near_border || box_in_chart(lo, hi, c0) ? Route::Raster : Route::Projected;
 }
 
 /// The regions of the projected fallback of patch triangle `tri`, and the
@@ -686,11 +718,6 @@ TriangleBins Synthesizer::bin_triangles() const {
   bins.tri_px.resize(bins.tri_px_base.back());
   bins.tri_rim.assign(bins.tri_px_base.back(), 0);
   const std::vector<char> chart_border = chart_border_faces();
-  struct PatchBins {
-    std::vector<std::pair<int, Job>> placed;  // (tile, job); job.regions indexes `lists`
-    std::vector<std::vector<Region>> lists;
-    std::size_t binned = 0, projected = 0;
-  };
   std::vector<PatchBins> per_patch(patches_.size());
   tbb::parallel_for(std::size_t(0), patches_.size(), [&](std::size_t p) {
     const Patch& patch = patches_[p];
@@ -705,9 +732,11 @@ TriangleBins Synthesizer::bin_triangles() const {
       // A triangle with no core weight at any corner brings only its
       // coverage tail, which counts at few texels (accumulate_tails).
       if (!(core_[p][tri[0]] > 0 || core_[p][tri[1]] > 0 || core_[p][tri[2]] > 0)) continue;
-      ++out.binned;
       auto& px = bins.tri_px[bins.tri_px_base[p] + t];
-      if (in_one_chart(patch, tri, chart_border, px)) {
+      const Route way = route(patch, tri, chart_border, px);
+      if (way == Route::Elsewhere) continue;
+      ++out.binned;
+      if (way == Route::Raster) {
         // The tiles its texels (raster_job) fall in.
         const Vec2 lo = px[0].cwiseMin(px[1]).cwiseMin(px[2]), hi = px[0].cwiseMax(px[1]).cwiseMax(px[2]);
         const Job job{static_cast<int>(p), static_cast<int>(t), -1};
@@ -726,16 +755,7 @@ TriangleBins Synthesizer::bin_triangles() const {
       out.lists.push_back(std::move(regions));
     }
   });
-  for (PatchBins& b : per_patch) {
-    const int offset = static_cast<int>(bins.region_lists.size());
-    for (auto& list : b.lists) bins.region_lists.push_back(std::move(list));
-    for (auto [tile, job] : b.placed) {
-      if (job.regions >= 0) job.regions += offset;
-      bins.jobs[tile].push_back(job);
-    }
-    bins.binned += b.binned;
-    bins.projected += b.projected;
-  }
+  merge_patch_bins(per_patch, bins);
   return bins;
 }
 

@@ -22,11 +22,16 @@
 #     fps x mean-z step within 5 % of vz.
 #  3. fluidtex run, frames 1-6, 512x512 atlases: once with PLY UV meshes
 #     (WORK_DIR/out/mesh.####.ply), once with the default OBJ meshes
-#     (WORK_DIR/out-obj).
-#  4. load_fluidtex.py --check --save on both outputs: 6 frames, UVs, the first
-#     frame's atlas exists; PLY: format ply, velocities loaded and non-zero.
+#     (WORK_DIR/out-obj); and once in UDIM tiles (WORK_DIR/out-udim,
+#     --texel-density 300 in tiles of 128x128, atlas.####.<UDIM>.exr).
+#  4. load_fluidtex.py --check --save on all three outputs: 6 frames, UVs, the
+#     first frame's atlas exists; PLY: format ply, velocities loaded and
+#     non-zero; UDIM: more than one tile, and UVs beyond tile 1001.
 #  5. The saved .blend of the PLY run, reloaded: on frame 3 exactly one loaded
 #     object renders, and its mesh has the vertex count of mesh.0003.ply.
+#  6. The saved .blend of the UDIM run, rendered (Cycles, 160x120, frame 3):
+#     the liquid covers pixels and none of them is the magenta of a missing
+#     texture tile.
 set -euo pipefail
 
 if [ $# -ne 3 ]; then
@@ -124,17 +129,21 @@ if not d["uvs"]:
     bad.append("no UVs")
 if not d["image_first_exists"]:
     bad.append("first atlas %s does not exist" % d["image_first"])
-if d["format"] != mode:
+if d["format"] != {"udim": "obj"}.get(mode, mode):
     bad.append("format %s, expected %s" % (d["format"], mode))
 if mode == "ply" and not (d["velocities"] and d["velocity_max_first"] > 0):
     bad.append("velocities %s, max |v| of frame 1 %s: expected non-zero" % (d["velocities"], d["velocity_max_first"]))
 if mode == "obj" and d["velocities"]:
     bad.append("velocities from OBJ meshes")
+if mode == "udim" and not (d["image_tiles_first"] > 1 and d["uv_udim_max_first"] > 1001):
+    bad.append("%s UDIM tiles, UVs up to tile %s: expected more than one" % (d["image_tiles_first"],
+                                                                              d["uv_udim_max_first"]))
 if bad:
     sys.stderr.write("; ".join(bad) + "\n")
     sys.exit(1)
-print("%s: %d frames, %d vertices on frame 1, UVs, atlas %s, velocities %s (max |v| %.4f)" % (
-    mode, d["frames"], d["vertices_first"], d["image_first"], d["velocities"], d["velocity_max_first"]))
+print("%s: %d frames, %d vertices on frame 1, UVs, atlas %s (%d tiles), velocities %s (max |v| %.4f)" % (
+    mode, d["frames"], d["vertices_first"], d["image_first"], d["image_tiles_first"], d["velocities"],
+    d["velocity_max_first"]))
 '
 json_check() {
   local out
@@ -179,8 +188,11 @@ run fluidtex_ply.log "$FLUIDTEX" run -q -i "$WORK/ply/$NAME.####.ply" -e "$SRC/d
   -o "$WORK/out" --frames 1-6 --atlas-size 512 --mesh "$WORK/out/mesh.####.ply"
 run fluidtex_obj.log "$FLUIDTEX" run -q -i "$WORK/ply/$NAME.####.ply" -e "$SRC/data/gravel.png" \
   -o "$WORK/out-obj" --frames 1-6 --atlas-size 512
+run fluidtex_udim.log "$FLUIDTEX" run -q -i "$WORK/ply/$NAME.####.ply" -e "$SRC/data/gravel.png" \
+  -o "$WORK/out-udim" --frames 1-6 --texel-density 300 --atlas-size 128 --atlas "$WORK/out-udim/atlas.####.<UDIM>.exr"
 for f in 0001 0006; do
-  for p in out/mesh.$f.ply out/atlas.$f.exr out-obj/mesh.$f.obj out-obj/atlas.$f.exr; do
+  for p in out/mesh.$f.ply out/atlas.$f.exr out-obj/mesh.$f.obj out-obj/atlas.$f.exr out-udim/mesh.$f.obj \
+    out-udim/atlas.$f.1001.exr out-udim/atlas.$f.1002.exr; do
     [ -f "$WORK/$p" ] || fail "fluidtex did not write $WORK/$p"
   done
 done
@@ -194,6 +206,9 @@ json_check "$LOGS/load_ply.log" ply
 blender_py load_obj.log "$SCRIPTS/load_fluidtex.py" -- --input "$WORK/out-obj" --clear-scene \
   --check --save "$WORK/out-obj.blend"
 json_check "$LOGS/load_obj.log" obj
+blender_py load_udim.log "$SCRIPTS/load_fluidtex.py" -- --input "$WORK/out-udim" --clear-scene \
+  --check --save "$WORK/out-udim.blend"
+json_check "$LOGS/load_udim.log" udim
 end
 
 # 5. Reload the PLY run's .blend: visibility on frame 3 and vertex count.
@@ -233,5 +248,55 @@ fi
 grep '^check_reload: OK' "$LOGS/reload.log" | sed 's/^/   /'
 end
 
-rm -rf "$WORK"
+# 6. Render the UDIM run: every tile found, none missing (magenta).
+begin "6 render the UDIM run (frame 3)"
+cat >"$WORK/check_udim_render.py" <<'EOF'
+import sys
+import bpy
+import mathutils
+
+out = sys.argv[sys.argv.index("--") + 1]
+scene = bpy.context.scene
+scene.frame_set(3)
+shown = [o for o in bpy.data.collections["fluidtex"].objects if o.type == 'MESH' and not o.hide_render]
+box = [o.matrix_world @ mathutils.Vector(c) for o in shown for c in o.bound_box]
+centre = sum(box, mathutils.Vector()) / len(box)
+size = max((p - centre).length for p in box)
+cam = bpy.data.objects.new("check_camera", bpy.data.cameras.new("check_camera"))
+scene.collection.objects.link(cam)
+cam.location = centre + mathutils.Vector((1.0, -1.0, 1.4)) * 2.5 * size
+cam.rotation_euler = (centre - cam.location).to_track_quat('-Z', 'Y').to_euler()
+scene.camera = cam
+sun = bpy.data.objects.new("check_sun", bpy.data.lights.new("check_sun", 'SUN'))
+scene.collection.objects.link(sun)
+scene.world = scene.world or bpy.data.worlds.new("check_world")
+scene.world.use_nodes = False
+scene.world.color = (0.0, 0.0, 0.0)
+scene.render.engine = 'CYCLES'
+scene.cycles.samples = 4
+scene.cycles.use_denoising = False
+scene.render.resolution_x, scene.render.resolution_y = 160, 120
+scene.render.filepath = out
+bpy.ops.render.render(write_still=True)
+img = bpy.data.images.load(out)
+px = list(img.pixels)
+lit = magenta = 0
+for i in range(0, len(px), 4):
+    r, g, b = px[i], px[i + 1], px[i + 2]
+    lit += r + g + b > 0.05
+    magenta += r > 0.8 and b > 0.8 and g < 0.2
+tiles = [len(i.tiles) for i in bpy.data.images if i.source == 'TILED']
+if lit < 500 or magenta > 0 or not tiles:
+    sys.stderr.write("check_udim_render: FAIL: %d liquid pixels, %d magenta, tiled images %s\n" % (lit, magenta, tiles))
+    sys.exit(1)
+print("check_udim_render: OK: %d liquid pixels, none magenta; tiles per image %d-%d" % (lit, min(tiles), max(tiles)))
+EOF
+if ! "$BLENDER" -b "$WORK/out-udim.blend" --python-exit-code 1 --python "$WORK/check_udim_render.py" -- \
+  "$WORK/udim.png" >"$LOGS/udim_render.log" 2>&1; then
+  fail "$(grep 'check_udim_render: FAIL' "$LOGS/udim_render.log" || tail -n 1 "$LOGS/udim_render.log")"
+fi
+grep '^check_udim_render: OK' "$LOGS/udim_render.log" | sed 's/^/   /'
+end
+
+[ -n "${KEEP_WORK:-}" ] || rm -rf "$WORK"
 awk -v a="$T_ALL" -v b="$(now)" 'BEGIN { printf "PASS (%.1f s)\n", b - a }'

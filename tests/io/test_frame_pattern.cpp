@@ -68,6 +68,32 @@ TEST(FramePattern, DiscoversUnpadded) {
   EXPECT_EQ(FramePattern(dir.file("m.$F.ply")).discover(), (std::vector<int>{1, 2, 10}));
 }
 
+TEST(FramePattern, AUdimTokenNamesEveryTileOfAFrame) {
+  const FramePattern p("out/atlas.####.<UDIM>.exr");
+  EXPECT_TRUE(p.has_udim());
+  EXPECT_FALSE(FramePattern("out/atlas.####.exr").has_udim());
+  EXPECT_EQ(p.path(7), "out/atlas.0007.<UDIM>.exr");  // the name a material gives
+  EXPECT_EQ(p.path(7, 1002), "out/atlas.0007.1002.exr");
+  EXPECT_EQ(p.first_file(7), "out/atlas.0007.1001.exr");
+  EXPECT_EQ(FramePattern("t.<UDIM>.$F4.exr").path(3, 1011), "t.1011.0003.exr");
+  EXPECT_EQ(FramePattern("a.####.exr").path(3, 1002), "a.0003.exr");  // no token: one file
+  EXPECT_THROW(FramePattern("a.<UDIM>.####.<UDIM>.exr"), InputError);
+  EXPECT_THROW(FramePattern("tiles_<UDIM>/a.####.exr"), InputError);
+
+  test::TempDir dir;
+  for (const char* name : {"a.0001.1001.exr", "a.0001.1002.exr", "a.0001.1011.exr", "a.0002.1001.exr",
+                           "a.0003.1002.exr", "a.0001.0999.exr", "a.0001.101.exr", "a.0001.1003.exr.tmp"}) {
+    test::write_file(dir.path() / name, "x");
+  }
+  const FramePattern tiles(dir.file("a.####.<UDIM>.exr"));
+  EXPECT_EQ(tiles.udims(1), (std::vector<int>{1001, 1002, 1011}));
+  EXPECT_EQ(tiles.files(1), (std::vector<std::string>{dir.file("a.0001.1001.exr"), dir.file("a.0001.1002.exr"),
+                                                      dir.file("a.0001.1011.exr")}));
+  EXPECT_TRUE(tiles.udims(4).empty());
+  // A frame is on disk when its tile 1001 is (frame 3 has only 1002).
+  EXPECT_EQ(tiles.discover(), (std::vector<int>{1, 2}));
+}
+
 TEST(FrameRange, Ranges) {
   EXPECT_EQ(parse_frame_range("1-5"), (std::vector<int>{1, 2, 3, 4, 5}));
   EXPECT_EQ(parse_frame_range("1-10x3"), (std::vector<int>{1, 4, 7, 10}));

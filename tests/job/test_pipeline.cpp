@@ -2,7 +2,8 @@
 // frame and settings; no output of another job survives a run; off a
 // terminal every frame logs one line; a frame whose state cannot be written
 // leaves nothing; a liquid that grows from a small start is warned of; the
-// same --exemplar-size gives scenes of any extent the same texture size.
+// same --exemplar-size gives scenes of any extent the same texture size;
+// UDIM tiles hold what one tile cannot.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -121,7 +122,7 @@ TEST(Pipeline, TheSameExemplarSizeGivesScenesOfAnyExtentTheSameTextureSize) {
     run_job(job, silent_reporter());
     const double recorded = read_job_record(job.output.dir).exemplar_size.value_or(0.0);
     const TexturedFrame frame = read_run_frame(job.output.atlas(), job.output.mesh(), 1);
-    return Span{recorded, measured_exemplar_span(frame.atlas, frame.mesh, exemplar, recorded)};
+    return Span{recorded, measured_exemplar_span(frame.atlas.first(), frame.mesh, exemplar, recorded)};
   };
   const Span small = span_of(1, std::nullopt), large = span_of(3, std::nullopt);
   EXPECT_NEAR(large.recorded / small.recorded, 3.0, 1e-9);  // 2.6 × 5 % of each diagonal
@@ -133,6 +134,77 @@ TEST(Pipeline, TheSameExemplarSizeGivesScenesOfAnyExtentTheSameTextureSize) {
   EXPECT_NEAR(given_small.measured / 0.3, 1.0, 0.1);
   EXPECT_NEAR(given_large.measured / 0.3, 1.0, 0.1);
   EXPECT_NEAR(given_large.measured / given_small.measured, 1.0, 0.1);
+}
+
+TEST(Pipeline, UdimTilesHoldASurfaceThatOneTileCannot) {
+  // The rotation scene (a disk of area π) at 150 texels per scene unit: one
+  // 128² tile cannot hold it. With <UDIM> in the atlas patterns every frame
+  // writes tiles 1001, 1002, ... of each layer, its material names them by
+  // the token, and the texture on the surface is the one a single large
+  // enough atlas shows.
+  test::TempDir dir;
+  const std::string run = scene_run(dir) + "--seed 3 --texel-density 150 --frames 1-3 ";
+  std::string out;
+  EXPECT_EQ(run_fluidtex(run + "--atlas-size 128 -o " + q(dir.file("one")), &out), 2);
+  EXPECT_NE(out.find("put <UDIM> in --atlas for UDIM tiles"), std::string::npos) << out;
+  const std::string tiled = run + "--atlas-size 128 -o " + q(dir.file("t")) + " --atlas " +
+                            q(dir.file("t/atlas.####.<UDIM>.exr")) + " --displacement-atlas " +
+                            q(dir.file("t/h.####.<UDIM>.exr"));
+  ASSERT_EQ(run_fluidtex(tiled, &out), 0) << out;
+  const FramePattern atlas(dir.file("t/atlas.####.<UDIM>.exr"));
+  for (int f = 1; f <= 3; ++f) {
+    const std::vector<int> udims = atlas.udims(f);
+    ASSERT_GE(udims.size(), 3u) << "frame " << f;
+    // Consecutive from 1001; the height and weight layers have the same tiles.
+    for (std::size_t i = 0; i < udims.size(); ++i) EXPECT_EQ(udims[i], udim_number(static_cast<int>(i)));
+    EXPECT_EQ(FramePattern(dir.file("t/h.####.<UDIM>.exr")).udims(f), udims);
+    EXPECT_EQ(FramePattern(dir.file("t/aov/weight.####.<UDIM>.exr")).udims(f), udims);
+  }
+  const std::string material = test::read_file(dir.file("t/mesh.0002.mtl"));
+  EXPECT_NE(material.find("map_Kd atlas.0002.<UDIM>.exr"), std::string::npos) << material;
+  EXPECT_NE(material.find("disp h.0002.<UDIM>.exr"), std::string::npos) << material;
+  const UVMesh mesh = read_uv_mesh(dir.file("t/mesh.0002.obj"));
+  double u_max = 0.0;
+  for (const Vec2& uv : mesh.uvs) u_max = std::max(u_max, uv.x());
+  EXPECT_GT(u_max, 2.0);
+  // The texel density holds across the tiles.
+  EXPECT_NEAR(texel_density(mesh, 128), 150.0, 0.5);
+  // The same job in one 512² atlas shows the same texture on the surface.
+  ASSERT_EQ(run_fluidtex(run + "--atlas-size 512 -o " + q(dir.file("big")), &out), 0) << out;
+  EXPECT_EQ(run_fluidtex("compare " + q(dir.file("big")) + " " + q(dir.file("t")), &out), 0) << out;
+  EXPECT_NE(out.find("layouts differ"), std::string::npos) << out;
+  // A lost tile 1001 makes its frame incomplete: --resume makes it again,
+  // every tile the same bytes.
+  const std::string kept = test::read_file(atlas.path(2, 1002));
+  fs::remove(atlas.path(2, 1001));
+  ASSERT_EQ(run_fluidtex(tiled + " --resume", &out), 0) << out;
+  EXPECT_EQ(test::read_file(atlas.path(2, 1002)), kept);
+  EXPECT_TRUE(fs::exists(atlas.path(2, 1001)));
+  // Texel by texel, the tiles of the same job on one thread pass; a damaged
+  // texel of tile 1002 is found and named.
+  const std::string again = run + "--atlas-size 128 -o " + q(dir.file("t1")) + " --atlas " +
+                            q(dir.file("t1/atlas.####.<UDIM>.exr")) + " --threads 1";
+  ASSERT_EQ(run_fluidtex(again, &out), 0) << out;
+  EXPECT_EQ(run_fluidtex("compare " + q(dir.file("t")) + " " + q(dir.file("t1")), &out), 0) << out;
+  Image damaged = read_image(dir.file("t1/atlas.0001.1002.exr"));
+  const std::vector<char> charts = chart_mask(mesh, 128, udim_origin(1002));
+  const auto texel = static_cast<std::size_t>(std::find(charts.begin(), charts.end(), 1) - charts.begin());
+  ASSERT_LT(texel, charts.size());
+  damaged.pixel(texel)[0] = damaged.pixel(texel)[0] > 0.5f ? 0.0f : 1.0f;
+  write_image(dir.file("t1/atlas.0001.1002.exr"), damaged);
+  EXPECT_EQ(run_fluidtex("compare " + q(dir.file("t")) + " " + q(dir.file("t1")), &out), 1) << out;
+  EXPECT_NE(out.find("frame 1: worst texel (" + std::to_string(texel % 128) + ", " + std::to_string(texel / 128) +
+                     ") of tile 1002"),
+            std::string::npos)
+      << out;
+  // The layers share the atlas's tiles; meshes have none.
+  EXPECT_EQ(run_fluidtex(run + "-o " + q(dir.file("x")) + " --atlas " + q(dir.file("x/a.####.<UDIM>.exr")) +
+                             " --normal-atlas " + q(dir.file("x/n.####.exr")),
+                         &out),
+            2);
+  EXPECT_NE(out.find("put <UDIM> in its pattern too"), std::string::npos) << out;
+  EXPECT_EQ(run_fluidtex(run + "-o " + q(dir.file("x")) + " --mesh " + q(dir.file("x/m.####.<UDIM>.obj")), &out), 2);
+  EXPECT_NE(out.find("<UDIM> names the tiles of a texture, not of a mesh"), std::string::npos) << out;
 }
 
 TEST(Pipeline, AnExemplarInAnotherColourSpaceIsConvertedOnce) {

@@ -1,6 +1,6 @@
 // The atlas (texture/atlas.h): charts cover every face once, at one texel
 // density, packed without overlap; the chart cuts; the texel map; a given
-// texel density.
+// texel density; UDIM tiles.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,6 +19,8 @@ namespace {
 double tri_area2(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
 }
+
+void check_gutters(const FrameMesh& mesh, const Atlas& atlas, const AtlasOptions& options, int tile);
 
 void check_atlas(const SurfaceIndex& surface, const Atlas& atlas, const AtlasOptions& options,
                  double min_efficiency = 0.3) {
@@ -47,10 +49,46 @@ void check_atlas(const SurfaceIndex& surface, const Atlas& atlas, const AtlasOpt
     }
   }
   // Chart footprints (texel centres inside their triangles) keep the gutter
-  // between them: no texel of another chart within 2·gutter − 1 (L∞).
+  // between them: no texel of another chart of the tile within 2·gutter − 1 (L∞).
+  const int n = atlas.size;
+  ASSERT_GE(atlas.tiles, 1);
+  ASSERT_LE(atlas.tiles, options.max_tiles);
+  for (int tile = 0; tile < atlas.tiles; ++tile) {
+    SCOPED_TRACE("tile " + std::to_string(tile));
+    check_gutters(mesh, atlas, options, tile);
+  }
+  // Uniform texel density: per chart, atlas area / 3D area ≈ density², and
+  // per-chart area distortion bounded.
+  for (const Chart& chart : atlas.charts) {
+    double px = 0.0;
+    for (int f : chart.faces) {
+      const auto& c = atlas.corner_px[f];
+      px += 0.5 * std::abs(tri_area2(c[0], c[1], c[2]));
+    }
+    EXPECT_NEAR(px / (chart.area3 * atlas.texels_per_unit * atlas.texels_per_unit), 1.0, 1e-6);
+    EXPECT_LE(chart.stretch, options.max_stretch + 1e-9);
+  }
+  EXPECT_GT(atlas.packing_efficiency, min_efficiency);
+  // The UV mesh: per-corner uvs in their tile's square, [0,1]² for 1001.
+  const UVMesh uv = atlas_uv_mesh(surface, atlas);
+  ASSERT_EQ(uv.uv_triangles.size(), mesh.triangles.size());
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Vec2 origin = udim_offset(atlas.charts[atlas.face_chart[f]].tile);
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 p = uv.uvs[uv.uv_triangles[f][k]] - origin;
+      EXPECT_GE(p.x(), 0.0);
+      EXPECT_LE(p.x(), 1.0);
+      EXPECT_GE(p.y(), 0.0);
+      EXPECT_LE(p.y(), 1.0);
+    }
+  }
+}
+
+void check_gutters(const FrameMesh& mesh, const Atlas& atlas, const AtlasOptions& options, int tile) {
   const int n = atlas.size;
   std::vector<int> owner(static_cast<std::size_t>(n) * n, -1);
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    if (atlas.charts[atlas.face_chart[f]].tile != tile) continue;
     const auto& p = atlas.corner_px[f];
     const Vec2 lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
     for (int y = std::max(0, static_cast<int>(lo.y()) - 1); y <= std::min(n - 1, static_cast<int>(hi.y()) + 1); ++y) {
@@ -80,27 +118,6 @@ void check_atlas(const SurfaceIndex& surface, const Atlas& atlas, const AtlasOpt
     }
   }
   EXPECT_EQ(conflicts, 0) << "charts closer than the gutter";
-  // Uniform texel density: per chart, atlas area / 3D area ≈ density², and
-  // per-chart area distortion bounded.
-  for (const Chart& chart : atlas.charts) {
-    double px = 0.0;
-    for (int f : chart.faces) {
-      const auto& c = atlas.corner_px[f];
-      px += 0.5 * std::abs(tri_area2(c[0], c[1], c[2]));
-    }
-    EXPECT_NEAR(px / (chart.area3 * atlas.texels_per_unit * atlas.texels_per_unit), 1.0, 1e-6);
-    EXPECT_LE(chart.stretch, options.max_stretch + 1e-9);
-  }
-  EXPECT_GT(atlas.packing_efficiency, min_efficiency);
-  // The UV mesh: per-corner uvs in [0,1]².
-  const UVMesh uv = atlas_uv_mesh(surface, atlas);
-  ASSERT_EQ(uv.uv_triangles.size(), mesh.triangles.size());
-  for (const Vec2& p : uv.uvs) {
-    EXPECT_GE(p.x(), 0.0);
-    EXPECT_LE(p.x(), 1.0);
-    EXPECT_GE(p.y(), 0.0);
-    EXPECT_LE(p.y(), 1.0);
-  }
 }
 
 TEST(Atlas, InvariantsOnFlatAndClosedSurfaces) {
@@ -240,6 +257,56 @@ TEST(Atlas, AGivenTexelDensityPicksTheSmallestSquareThatHoldsIt) {
     const std::string what = e.what();
     EXPECT_NE(what.find("at --texel-density 1000"), std::string::npos) << what;
     EXPECT_NE(what.find("raise --atlas-size"), std::string::npos) << what;
+  }
+}
+
+TEST(Atlas, ASurfaceLargerThanOneTileGoesIntoUdimTiles) {
+  // A sheet 2 units across at 200 texels per unit (400 texels and more a
+  // side) in tiles of 256: one tile cannot hold it, nor its one flat chart,
+  // which is cut until each piece fits a tile. The pieces fill tiles 1001,
+  // 1002, ... at exactly that density, and each tile's texel map holds its
+  // charts' texels and no other.
+  const FrameMesh mesh = test::flat_grid(32, 2.0);
+  const SurfaceIndex surface(mesh);
+  AtlasOptions o;
+  o.size = 256;
+  o.texel_density = 200.0;
+  try {
+    build_atlas(surface, o);
+    ADD_FAILURE() << "one tile held it";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("put <UDIM> in --atlas"), std::string::npos) << e.what();
+  }
+  o.max_tiles = kMaxUdimTiles;
+  const Atlas atlas = build_atlas(surface, o);
+  check_atlas(surface, atlas, o, 0.3);
+  EXPECT_EQ(atlas.size, 256);
+  EXPECT_EQ(atlas.texels_per_unit, 200.0);
+  // 400² texels of surface need 2.4 tiles at best; measured: 4.
+  EXPECT_GE(atlas.tiles, 3);
+  EXPECT_LE(atlas.tiles, 6);
+  std::size_t texels = 0;
+  for (int tile = 0; tile < atlas.tiles; ++tile) {
+    const TexelMap map = build_texel_map(surface, atlas, tile);
+    EXPECT_EQ(map.tile, tile);
+    std::size_t own = 0;
+    for (int f : map.face) {
+      if (f < 0) continue;
+      ++own;
+      EXPECT_EQ(atlas.charts[atlas.face_chart[f]].tile, tile);
+    }
+    EXPECT_GT(own, 0u) << "tile " << tile << " is empty";
+    texels += own;
+  }
+  EXPECT_NEAR(static_cast<double>(texels) / (4.0 * 200.0 * 200.0), 1.0, 0.03);
+  // Too few tiles for the density: refused, naming what to change.
+  o.texel_density = 2000.0;
+  try {
+    build_atlas(surface, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs more than 100 UDIM tiles of 256x256 texels"), std::string::npos)
+        << e.what();
   }
 }
 

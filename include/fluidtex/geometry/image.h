@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "fluidtex/geometry/mesh.h"
@@ -108,6 +109,29 @@ struct Image {
 /// centres at +0.5), clamped at the border; writes the first `channels`
 /// values (0: all image.channels).
 void sample_bilinear(const Image& image, double x, double y, float* out, int channels = 0);
+
+/// The uv of the lower-left corner of UDIM tile `udim` (1001 + column +
+/// 10·row covers uv [column, column + 1) × [row, row + 1)).
+inline Vec2 udim_origin(int udim) {
+  return {static_cast<double>((udim - 1001) % 10), static_cast<double>((udim - 1001) / 10)};
+}
+
+/// An atlas read back: one image, or UDIM tiles.
+struct TiledAtlas {
+  std::vector<int> udims;    ///< ascending; {1001} for one image
+  std::vector<Image> tiles;  ///< the image of each
+  bool udim = false;         ///< read as UDIM tiles (else one image holds every uv, clamped to [0,1]²)
+
+  /// One image as an atlas.
+  static TiledAtlas one(Image image) { return {.udims = {1001}, .tiles = {std::move(image)}, .udim = false}; }
+
+  const Image& first() const { return tiles.front(); }
+  /// The tile holding `uv` (nullptr where no tile is), and `uv` in it ([0,1]²).
+  const Image* tile_at(Vec2& uv) const;
+  /// Bilinear lookup at `uv` (v up) in its tile, clamped into the tile;
+  /// zeros where no tile is. Writes the first `channels` values (0: all).
+  void sample(Vec2 uv, float* out, int channels = 0) const;
+};
 
 /// Rec. 709 luminance of linear RGB (the primaries atlases and exemplars
 /// are read in): the height atlas, a displacement exemplar's grey and eval's

@@ -74,6 +74,7 @@ struct FrameComparison {
   /// chart texels compared, the largest difference in any channel and where.
   std::size_t texels = 0;
   double texel_max = 0.0;
+  int worst_udim = 0;               ///< the worst texel's UDIM tile (0: the atlas is one image)
   int worst_x = 0, worst_y = 0;     ///< the worst texel (x right, y down)
   Vec3 worst_point = Vec3::Zero();  ///< where it lies on the surface
   bool passed = true;

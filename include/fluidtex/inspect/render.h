@@ -121,10 +121,13 @@ struct RenderResult {
   Camera camera;
 };
 
-/// Renders `mesh` textured with `atlas` (linear RGB or grey).
+/// Renders `mesh` textured with `atlas` (linear RGB or grey; one image or
+/// UDIM tiles).
+RenderResult render(const UVMesh& mesh, const TiledAtlas& atlas, const RenderOptions& options);
 RenderResult render(const UVMesh& mesh, const Image& atlas, const RenderOptions& options);
 
 /// render(mesh, atlas, options).color.
+Image render_textured(const UVMesh& mesh, const TiledAtlas& atlas, const RenderOptions& options);
 Image render_textured(const UVMesh& mesh, const Image& atlas, const RenderOptions& options);
 
 // --- Drawing on a rendered image (overlays) -----------------------------------

@@ -15,8 +15,9 @@
 namespace fluidtex {
 
 /// Texels of a `size`² atlas covered by the uv triangles of `mesh` (texel
-/// centre inside a uv triangle): the chart texels.
-std::vector<char> chart_mask(const UVMesh& mesh, int size);
+/// centre inside a uv triangle): the chart texels. Of UDIM tiles, those of
+/// the tile whose lower-left uv is `origin` (udim_origin).
+std::vector<char> chart_mask(const UVMesh& mesh, int size, const Vec2& origin = Vec2::Zero());
 
 /// n×n windows (top-left corners) of a `size`² atlas lying wholly inside
 /// the charts of `mask`, at most `limit`, spread over the candidates in

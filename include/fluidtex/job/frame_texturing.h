@@ -45,6 +45,10 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
 
 /// Scene units one exemplar tile spans on the surface in a job: the tile
 /// size at s = 1 (--exemplar-size, else (2 + β)·d) over the uv scale s.
+/// The job's atlas options: UDIM tiles (up to kMaxUdimTiles) when --atlas
+/// names <UDIM>, one tile otherwise.
+AtlasOptions job_atlas_options(const JobOptions& options);
+
 /// What `run` prints, job.toml's [job] table records and every atlas is
 /// stamped with (`fluidtex:exemplarSize`).
 double exemplar_span(const TrackingOptions& resolved, const SynthesisJobOptions& so);

@@ -60,7 +60,9 @@ struct OutputOptions {
   static void for_each_option(Self& o, F&& f) {
     f(shared_options::with_help(shared_options::kOutput, "Output folder (required)"), o.dir);
     f(OptionInfo{.name = "atlas",
-                 .help = "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr)",
+                 .help = "Atlas file pattern (.exr, .png, .tif) (default: OUT/atlas.####.exr); with <UDIM> in it "
+                         "(OUT/atlas.####.<UDIM>.exr), a frame that --texel-density puts in more than one "
+                         "--atlas-size square is written as UDIM tiles 1001, 1002, ...",
                  .role = OptionRole::OutputPath},
       o.atlas_pattern);
     f(OptionInfo{.name = "mesh",

@@ -93,6 +93,7 @@ struct SynthesisResult {
 /// Which surface face (and where in it) each atlas texel centre shows.
 struct TexelMap {
   int size = 0;
+  int tile = 0;                                ///< the atlas tile it maps (Chart::tile)
   std::vector<int> face;                       ///< per texel (row-major, y down), −1 outside every chart
   std::vector<std::uint32_t> face_start;       ///< texels of face f: texels[face_start[f] .. face_start[f+1])
   std::vector<std::uint32_t> texels;           ///< texel indices grouped by face, ascending within a face
@@ -118,10 +119,11 @@ inline float blend_term(Blend blend, float sample, float mean) {
 bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
                    int channels, float* out);
 
-/// Rasterises the atlas charts: the texel → surface map.
-TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas);
+/// Rasterises the charts of atlas tile `tile`: that tile's texel → surface map.
+TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas, int tile = 0);
 
-/// Synthesises the atlas from `patches` (their weights must be current).
+/// Synthesises the atlas tile that `map` maps from `patches` (their weights
+/// must be current).
 SynthesisResult synthesize(const SurfaceIndex& surface, const Atlas& atlas, const TexelMap& map,
                            const std::vector<Patch>& patches, const Exemplar& exemplar,
                            const SynthesisOptions& options);
