@@ -283,7 +283,7 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     MetricRow row{{"frame", frame}};
     const std::string state = state_path(options.run_dir, frame);
     if (std::filesystem::exists(state)) {
-      const Tracker tracker = Tracker::load(state, mesh);
+      const Tracker tracker = Tracker::load(state, mesh, frame);
       if (!resolved) resolved = tracker.settings().tracking;
       history.add(frame, tracker, row);
       change.add(frame, tracker, sequence.fps(), row);

@@ -46,7 +46,7 @@ void draw_overlays(const PreviewOptions& options, const Sequence& sequence, int 
   auto frame_mesh = std::make_shared<const FrameMesh>(sequence.load(static_cast<std::size_t>(it - found.begin())));
   Canvas canvas{r.color, r.gbuffer, r.camera, default_depth_bias(frame_mesh->positions)};
   if (options.overlay("borders") || options.overlay("states")) {
-    const Tracker tracker = Tracker::load(state_path(options.run_dir, f), frame_mesh);
+    const Tracker tracker = Tracker::load(state_path(options.run_dir, f), frame_mesh, f);
     if (options.overlay("borders")) draw_patch_borders(canvas, tracker.patches());
     if (options.overlay("states")) draw_disk_states(canvas, tracker.patches(), std::max(3.0, r.camera.width / 150.0));
   }

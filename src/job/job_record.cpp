@@ -158,6 +158,24 @@ JobRecord read_job_record(const std::string& run_dir) {
   return record;
 }
 
+void check_state_settings(const TrackerSettings& state, const JobOptions& job, const std::string& state_path) {
+  JobOptions a = job, b = job;  // the tables bind mutable fields
+  b.tracking = state.tracking;
+  b.advection = state.advection;
+  b.patch_motion = state.motion;
+  b.seed = state.seed;
+  b.no_coverage_check = !state.coverage_aware;
+  const std::vector<OptionRef> ta = option_table(a), tb = option_table(b);
+  for (std::size_t i = 0; i < ta.size(); ++i) {
+    const std::string va = ta[i].text(), vb = tb[i].text();
+    if (va == vb || (ta[i].automatic && va == "auto")) continue;
+    throw InputError(state_path, "--" + std::string(ta[i].info.name) + " is " + quoted(va) +
+                                     " in the job, but this state was tracked with " + quoted(vb) +
+                                     " (job.toml edited after tracking, or a state of another job?): track "
+                                     "again, or give the job its value back");
+  }
+}
+
 void check_resumable(const JobRecord& job, const JobRecord& given) {
   const std::string path = job_record_path(given.options.output.dir);
   const std::string restart = " (or --force to replace the job)";

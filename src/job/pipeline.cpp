@@ -292,7 +292,8 @@ Tracker start_tracker(const JobOptions& options, const Sequence& sequence, const
       const std::string path = state_path(options.output.dir, sequence.frames()[i]);
       if (!std::filesystem::exists(path)) continue;
       auto mesh = std::make_shared<const FrameMesh>(sequence.load(i));
-      Tracker tracker = Tracker::load(path, std::move(mesh));
+      Tracker tracker = Tracker::load(path, std::move(mesh), sequence.frames()[i]);
+      check_state_settings(tracker.settings(), options, path);
       first = i + 1;
       summary.resumed_after = sequence.frames()[i];
       reporter.info("resuming after frame " + std::to_string(summary.resumed_after) + " (" + path + ")");

@@ -176,7 +176,9 @@ JobSummary synth_job(const SynthRequest& request, Reporter& reporter) {
     std::optional<Tracker> tracker;
     {
       const ScopedStage stage(work.stats.seconds, "state");
-      tracker.emplace(Tracker::load(state_path(request.dir, frame), work.mesh));
+      const std::string state = state_path(request.dir, frame);
+      tracker.emplace(Tracker::load(state, work.mesh, frame));
+      check_state_settings(tracker->settings(), options, state);
     }
     work.stats.patches = count_states(tracker->patches());
     synthesize_frame(*tracker->surface(), tracker->patches(), tracker->settings().tracking, source, options, frame,

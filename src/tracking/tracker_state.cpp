@@ -343,7 +343,7 @@ void read_patch(Reader& r, Patch& p, const FrameMesh& mesh, const std::string& p
 
 }  // namespace
 
-Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> mesh) {
+Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> mesh, std::optional<int> frame) {
   require_regular_file(path, "state file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open state file");
@@ -353,11 +353,15 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
   TrackerSettings settings;
   get_settings(r, settings);
   Tracker t(settings);
-  std::int32_t frame;
+  std::int32_t stored;
   std::uint64_t fingerprint, count;
-  r.get(frame), r.get(t.next_id_), r.get(fingerprint), r.get(count);
+  r.get(stored), r.get(t.next_id_), r.get(fingerprint), r.get(count);
+  if (frame && stored != *frame) {
+    throw InputError(path, "the state of frame " + std::to_string(stored) + ", not of frame " + std::to_string(*frame) +
+                               " (a state file copied from another frame?)");
+  }
   if (fingerprint != mesh_fingerprint(*mesh)) {
-    throw InputError(path, "the state does not match frame " + std::to_string(frame) + "'s mesh (input changed?)");
+    throw InputError(path, "the state does not match frame " + std::to_string(stored) + "'s mesh (input changed?)");
   }
   t.patches_.resize(count);
   for (Patch& p : t.patches_) read_patch(r, p, *mesh, path);
@@ -374,7 +378,7 @@ Tracker Tracker::load(const std::string& path, std::shared_ptr<const FrameMesh> 
     x.age = age;
   }
   if (!r.done()) throw InputError(path, "corrupt state file (trailing bytes)");
-  t.frame_ = frame;
+  t.frame_ = stored;
   t.started_ = true;
   t.surface_ =
       std::shared_ptr<const SurfaceIndex>(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });

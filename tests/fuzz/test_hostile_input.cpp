@@ -623,5 +623,73 @@ TEST(KillAndRerun, ASynthStepFinishesTheSame) {
   EXPECT_GE(interrupted, 2);  // the test kills steps mid-way
 }
 
+/// Exit 2 with one line naming `names`.
+void expect_refused(const Outcome& o, const std::string& names) {
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << "not one line: " << o.err;
+  EXPECT_NE(o.err.find(names), std::string::npos) << o.err;
+}
+
+/// The farm workflow's silent failures: a state of another job or another
+/// frame, or a job.toml edited after tracking, is refused naming the cause;
+/// a job with a hole resumes into the uninterrupted outputs.
+TEST(JobIntegrity, AStateThatIsNotTheJobsIsRefusedAndHolesAreMadeAgain) {
+  test::TempDir dir;
+  test::write_rotation_scene(dir.path(), 6, 16);
+  const std::vector<std::string> base{"run",    "-q",           "-i",  "rotation.####.ply", "-e",
+                                      "ex.png", "--atlas-size", "128", "--threads",         "1"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  ASSERT_EQ(run_limited(with({"-o", "a", "--track-only", "--seed", "3"}), dir.path()).code, 0);
+  ASSERT_EQ(run_limited(with({"-o", "b", "--track-only", "--seed", "9"}), dir.path()).code, 0);
+  const fs::path state2 = dir.path() / "a/state/patches.0002.bin";
+  const std::string own = test::read_file(state2);
+  const std::vector<std::string> synth{"synth", "-q", "-o", "a", "--frames", "2"};
+  // Another job's state of the same frame.
+  fs::copy_file(dir.path() / "b/state/patches.0002.bin", state2, fs::copy_options::overwrite_existing);
+  expect_refused(run_limited(synth, dir.path()), "--seed is '3' in the job, but this state was tracked with '9'");
+  // The job's own state of another frame (the mesh is the same on both).
+  fs::copy_file(dir.path() / "a/state/patches.0003.bin", state2, fs::copy_options::overwrite_existing);
+  expect_refused(run_limited(synth, dir.path()), "the state of frame 3, not of frame 2");
+  test::write_file(state2, own);
+  // A method option edited in job.toml after tracking.
+  const fs::path toml = dir.path() / "a/job.toml";
+  const std::string job = test::read_file(toml);
+  std::string edited = job;
+  const std::size_t at = edited.find("uv-scale=1\n");
+  ASSERT_NE(at, std::string::npos) << job;
+  edited.replace(at, 11, "uv-scale=2\n");
+  test::write_file(toml, edited);
+  expect_refused(run_limited(synth, dir.path()), "--uv-scale is '2' in the job, but this state was tracked with '1'");
+  test::write_file(toml, job);
+  EXPECT_FALSE(fs::exists(dir.path() / "a/atlas.0002.exr"));
+  ASSERT_EQ(run_limited(synth, dir.path()).code, 0);
+  // A hole in a finished job: --resume makes the frame again, as it was.
+  ASSERT_EQ(run_limited(with({"-o", "r", "--seed", "3"}), dir.path()).code, 0);
+  const std::string atlas3 = test::read_file(dir.path() / "r/atlas.0003.exr");
+  for (const char* lost : {"r/atlas.0003.exr", "r/mesh.0003.obj", "r/mesh.0003.mtl", "r/state/patches.0003.bin"})
+    fs::remove(dir.path() / lost);
+  const Outcome resumed = run_limited(with({"-o", "r", "--seed", "3", "--resume"}), dir.path());
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_EQ(test::read_file(dir.path() / "r/atlas.0003.exr"), atlas3);
+  EXPECT_TRUE(fs::exists(dir.path() / "r/state/patches.0003.bin"));
+  // The farm harness's other cases: one output path for two outputs, a
+  // --config that is not a file, NaN and out-of-range numbers.
+  expect_refused(
+      run_limited(with({"-o", "x", "--atlas", "x/a.####.exr", "--displacement-atlas", "x/a.####.exr"}), dir.path()),
+      "would write the same file");
+  expect_refused(run_limited(with({"-o", "x", "--config", "."}), dir.path()), "config file is a folder");
+  expect_refused(run_limited(with({"-o", "x", "--config", "/dev/zero"}), dir.path()),
+                 "config file is a character device");
+  expect_refused(run_limited({"compare", "r", "r", "--mean-tolerance", "nan"}, dir.path()), "--mean-tolerance");
+  expect_refused(run_limited({"compare", "r", "r", "--percentile", "nan"}, dir.path()), "--percentile");
+  expect_refused(run_limited({"preview", "r", "--velocity-scale", "nan"}, dir.path()), "--velocity-scale");
+  expect_refused(run_limited({"eval", "-o", "r", "--flow-max-motion", "nan"}, dir.path()), "--flow-max-motion");
+  expect_refused(run_limited({"eval", "-o", "r", "--images", "-1"}, dir.path()), "--images");
+}
+
 }  // namespace
 }  // namespace fluidtex

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fluidtex/job/job_options.h"
+#include "fluidtex/tracking/tracker.h"
 
 namespace fluidtex {
 
@@ -68,6 +69,13 @@ std::string job_record_path(const std::string& run_dir);
 /// with the other: a resume may extend or shorten the range, not move its
 /// start or step).
 void check_resumable(const JobRecord& job, const JobRecord& given);
+
+/// InputError naming `state_path` and the first option whose value in
+/// `job` (a job.toml, or the command line of a --resume) differs from the
+/// one the state was tracked with (`state`): a job.toml edited after
+/// tracking, or a state of another job. An automatic option left to "auto"
+/// in `job` takes whatever the tracker resolved.
+void check_state_settings(const TrackerSettings& state, const JobOptions& job, const std::string& state_path);
 
 /// The files in the output folder (and under the atlas and mesh patterns)
 /// that a job of `options` writes: job.toml, stats.jsonl, stats/, state/,

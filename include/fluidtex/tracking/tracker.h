@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -147,8 +148,10 @@ class Tracker {
   UnpackedState unpacked_state() const;
   static std::string pack_state(const UnpackedState& state);
   /// Restores a saved state onto `mesh` (the same frame's mesh, read again);
-  /// InputError when the file is not a valid state or does not match `mesh`.
-  static Tracker load(const std::string& path, std::shared_ptr<const FrameMesh> mesh);
+  /// InputError when the file is not a valid state, is another frame's than
+  /// `frame` (when given: the frame its name says) or does not match `mesh`.
+  static Tracker load(const std::string& path, std::shared_ptr<const FrameMesh> mesh,
+                      std::optional<int> frame = std::nullopt);
 
  private:
   // The steps of step(), in order (see the file comment).
