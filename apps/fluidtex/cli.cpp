@@ -449,6 +449,17 @@ void add_compare(CLI::App& app, int& exit_code) {
   });
 }
 
+/// What to lower when the command `app` ran out of memory: the options that
+/// size its largest buffers.
+std::string memory_advice(const CLI::App& app) {
+  const std::vector<CLI::App*> used = app.get_subcommands();
+  const std::string name = used.empty() ? std::string() : used.front()->get_name();
+  if (name == "preview") return "lower --width";
+  if (name == "eval") return "lower --flow-width, --samples or --threads";
+  if (name == "compare") return "lower --samples";
+  return "lower --atlas-size or --threads";
+}
+
 }  // namespace
 
 void print_error(const std::string& message, bool internal) {
@@ -520,8 +531,9 @@ int run_command_line(int argc, char** argv) {
     return 2;
   } catch (const std::bad_alloc&) {
     // Input sizes are bounded where they are read, so this is the job's size
-    // against the machine's (or the farm slot's) memory: the user can fix it.
-    print_error("out of memory: lower --atlas-size or --threads, or give the job more memory");
+    // against the machine's (or the farm slot's) memory: the user can fix it,
+    // with the option that sizes the command's largest buffers.
+    print_error("out of memory: " + memory_advice(app) + ", or give the job more memory");
     return 2;
   } catch (const std::exception& e) {
     print_error(e.what(), true);

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>  // Rotation2D
 
+#include "fluidtex/geometry/disk_clip.h"
 #include "fluidtex/geometry/disk_region.h"
 #include "fluidtex/geometry/parameterization.h"
 #include "fluidtex/tracking/patch_locator.h"
@@ -65,6 +66,42 @@ Vec2 uv_at(const Patch& patch, const Vec3& p) {
   return uv;
 }
 
+/// The surface of a new patch: the faces select_patch_faces takes, copied,
+/// cut to the selection cube and remeshed to `edge_length`; nullopt with
+/// the reason in `why`.
+std::optional<DiskMesh> patch_surface(const SurfaceIndex& surface, const SurfaceSample& centre,
+                                      const TrackingOptions& options, double edge_length, const char*& why) {
+  const double select_radius = (1.0 + options.selection_margin) * options.d();
+  const std::vector<int> faces = select_patch_faces(surface, centre, select_radius, options.patch_vertex_angle);
+  if (faces.empty()) {
+    why = "empty selection";
+    return std::nullopt;
+  }
+  DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk
+  // Work bounded by the disk: the triangles that reach into the selection
+  // ball end within it and one edge beyond; where the input's triangles are
+  // large against d, they cover many times the ball, and the patch's
+  // vertices (remeshed at a fraction of d) would grow with the square of
+  // the triangles' size. A selection over kMaxSelectionArea balls is cut to
+  // the cube of kSelectionCube balls' radius, whose section of a surface is
+  // at most 7 balls.
+  double area = 0.0;
+  for (const Tri& t : copy.triangles) area += triangle_area(copy.positions, t);
+  if (area > kMaxSelectionArea * M_PI * select_radius * select_radius)
+    clip_disk_to_cube(copy, centre.point.position, kSelectionCube * select_radius);
+  // Departure from the paper, which keeps the simulation's own triangles:
+  // the copy is remeshed to well-shaped triangles of a set size (vertices
+  // stay on the surface). Reconstructed surfaces are full of slivers whose
+  // shape is noise, which the distortion metric reads as large distortion,
+  // and their resolution varies; a remeshed patch follows the flow with a
+  // fixed, sufficient number of vertices.
+  if (edge_length > 0.0 && !remesh_disk(copy, edge_length)) {
+    why = "selection is not manifold";
+    return std::nullopt;
+  }
+  return copy;
+}
+
 }  // namespace
 
 std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSample& centre,
@@ -74,32 +111,23 @@ std::optional<Patch> build_patch(const SurfaceIndex& surface, const SurfaceSampl
     if (failure) *failure = why;
     return std::nullopt;
   };
-  const std::vector<int> faces =
-      select_patch_faces(surface, centre, (1.0 + options.selection_margin) * options.d(), options.patch_vertex_angle);
-  if (faces.empty()) return fail("empty selection");
-
-  DiskMesh copy = extract_faces(surface.mesh(), faces);  // a topological disk
-  // Departure from the paper, which keeps the simulation's own triangles:
-  // the copy is remeshed to well-shaped triangles of a set size (vertices
-  // stay on the surface). Reconstructed surfaces are full of slivers whose
-  // shape is noise, which the distortion metric reads as large distortion,
-  // and their resolution varies; a remeshed patch follows the flow with a
-  // fixed, sufficient number of vertices.
-  if (edge_length > 0.0 && !remesh_disk(copy, edge_length)) return fail("selection is not manifold");
+  const char* cut = nullptr;
+  const std::optional<DiskMesh> copy = patch_surface(surface, centre, options, edge_length, cut);
+  if (!copy) return fail(cut);
 
   Patch patch;
   patch.id = id;
   patch.created_frame = frame;
   patch.centre = centre;
-  patch.triangles = copy.triangles;
-  for (const Vec3& p : copy.positions) {
+  patch.triangles = copy->triangles;
+  for (const Vec3& p : copy->positions) {
     const SurfacePoint s = surface.closest_point(p);
     patch.positions.push_back(s.position);
     patch.projections.push_back(s);
   }
   if (patch.triangles.empty()) return fail("empty selection");
   std::string why;
-  if (!flatten_lscm(copy, patch.uvs, &why)) {
+  if (!flatten_lscm(*copy, patch.uvs, &why)) {
     if (failure) *failure = why;
     return std::nullopt;
   }

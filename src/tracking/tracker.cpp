@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -17,6 +18,7 @@
 #include "fluidtex/tracking/patch_locator.h"
 #include "fluidtex/tracking/poisson.h"
 #include "fluidtex/tracking/relaxation.h"
+#include "fluidtex/util/memory.h"
 #include "fluidtex/util/parallel.h"
 #include "fluidtex/util/timing.h"
 
@@ -89,13 +91,37 @@ Tracker::~Tracker() = default;
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
-void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved) {
+double tracking_memory_estimate(const SurfaceIndex& surface, const TrackingOptions& resolved, double patch_edge) {
+  const FrameMesh& mesh = surface.mesh();
+  double edges = 0.0;
+  for (const Tri& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) edges += (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).norm();
+  }
+  const double e = mesh.triangles.empty() ? 0.0 : edges / (3.0 * static_cast<double>(mesh.triangles.size()));
+  const double d = resolved.d(), r = (1.0 + resolved.selection_margin) * d;
+  const double selection = std::min(1.6 * M_PI * (r + e) * (r + e), 5.0 * M_PI * r * r);
+  const double a = patch_edge > 0.0 ? patch_edge * d : e;  // remeshed, or the input's own triangles
+  const double vertices = a > 0.0 ? selection / (0.5 * std::sqrt(3.0) * a * a) : 0.0;
+  const double disks = surface.area() / (M_PI * d * d);
+  return disks * kPatchesPerDisk * vertices * kBytesPerPatchVertex;
+}
+
+void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved, double patch_edge) {
   const double d = resolved.d();
   const double disks = surface.area() / (M_PI * d * d);
   if (disks > static_cast<double>(kMaxDisks)) {
     throw InputError("", "--radius " + format_number(d) + " gives about " + std::to_string(std::llround(disks)) +
                              " Poisson disks on the first frame (at most " + std::to_string(kMaxDisks) +
                              "): raise --radius");
+  }
+  const double need = tracking_memory_estimate(surface, resolved, patch_edge);
+  if (const std::optional<std::uint64_t> limit = memory_limit_bytes(); limit && need > static_cast<double>(*limit)) {
+    char gigabytes[64];
+    std::snprintf(gigabytes, sizeof gigabytes, "%.1f GB (this process may use %.1f GB)", need / 1e9,
+                  static_cast<double>(*limit) / 1e9);
+    throw InputError("", "--radius " + format_number(d) + " gives about " + std::to_string(std::llround(disks)) +
+                             " Poisson disks on the first frame, whose patches need about " + gigabytes +
+                             ": raise --radius");
   }
 }
 
@@ -110,7 +136,7 @@ StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, doubl
     surface.reset(new SurfaceIndex(*mesh), [mesh](const SurfaceIndex* s) { delete s; });
     if (!started_) {
       settings_.tracking = settings_.tracking.resolved(bounding_box(*mesh).diagonal());
-      check_disk_budget(*surface, settings_.tracking);
+      check_disk_budget(*surface, settings_.tracking, settings_.patch_edge);
     }
   }
   std::optional<SurfaceChange> change;

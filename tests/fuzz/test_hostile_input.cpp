@@ -623,6 +623,35 @@ TEST(KillAndRerun, ASynthStepFinishesTheSame) {
   EXPECT_GE(interrupted, 2);  // the test kills steps mid-way
 }
 
+/// A radius far below the input's triangles: the patches would need more
+/// memory than the run may use. Refused before tracking, naming --radius
+/// with the estimate (it grew for minutes and then blamed --atlas-size).
+/// Out of memory elsewhere names the option that sizes that command's
+/// buffers (preview: --width).
+TEST(OutOfMemory, TheOptionThatDrivesTheMemoryIsNamed) {
+  if (kSanitized) GTEST_SKIP() << "ASan replaces the allocator's failure with its own report";
+  test::TempDir dir;
+  test::write_rotation_scene(dir.path(), 2, 16);
+  const Outcome r = run_limited({"run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", "out", "--frames", "1-2",
+                                 "--radius", "0.01", "--atlas-size", "128", "--threads", "1"},
+                                dir.path(), 30.0, 2ull << 30, true);
+  ASSERT_FALSE(r.timed_out);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(
+      r.err.find("--radius 0.01 gives about 9971 Poisson disks on the first frame, whose patches need about 10.8 GB "),
+      std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(" GB): raise --radius\n"), std::string::npos) << r.err;  // the limit: 2.1 GB or less
+  EXPECT_FALSE(fs::exists(dir.path() / "out" / "state"));
+  ASSERT_EQ(run_limited({"run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", "small", "--atlas-size", "64"},
+                        dir.path())
+                .code,
+            0);
+  const Outcome p = run_limited({"preview", "small", "--width", "16384"}, dir.path(), 60.0, 1ull << 30, true);
+  EXPECT_EQ(p.code, 2) << p.err;
+  EXPECT_EQ(p.err, "fluidtex: error: out of memory: lower --width, or give the job more memory\n");
+}
+
 /// Exit 2 with one line naming `names`.
 void expect_refused(const Outcome& o, const std::string& names) {
   EXPECT_EQ(o.code, 2) << o.err;

@@ -1,11 +1,13 @@
 // flatten_lscm and remesh_disk (geometry/parameterization.h) on meshes whose
 // answer is known: a flat grid flattens isometrically, a spherical cap keeps
-// its area, remeshing keeps the area and the border.
+// its area, remeshing keeps the area and the border; clip_disk_to_cube
+// (geometry/disk_clip.h) cuts a coarse sheet to the cube's square.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 
+#include "fluidtex/geometry/disk_clip.h"
 #include "fluidtex/geometry/parameterization.h"
 #include "mesh_fixtures.h"
 
@@ -113,6 +115,25 @@ TEST(Parameterization, RemeshRefusesANonManifoldMeshAndLeavesIt) {
   EXPECT_FALSE(remesh_disk(fan, 0.1));
   EXPECT_EQ(fan.triangles, before.triangles);
   EXPECT_EQ(fan.positions.size(), before.positions.size());
+}
+
+TEST(DiskClip, ACoarseSheetIsCutToTheCubesSquareAndStaysADisk) {
+  // Two triangles 2 units across; the cube of half-size 0.1 around a point
+  // of the sheet holds a 0.2 × 0.2 square of it, which is what is left: a
+  // disk that flattens.
+  DiskMesh sheet = disk_of(test::flat_grid(1, 2.0));
+  const Vec3 centre(0.7, 0.4, 0.0);
+  ASSERT_TRUE(clip_disk_to_cube(sheet, centre, 0.1));
+  EXPECT_NEAR(area_3d(sheet), 0.04, 1e-12);
+  for (const Vec3& p : sheet.positions) EXPECT_LE((p - centre).cwiseAbs().maxCoeff(), 0.1 + 1e-12);
+  std::vector<Vec2> uv;
+  EXPECT_TRUE(flatten_lscm(sheet, uv));
+  // A mesh inside the cube is left as it is.
+  DiskMesh small = disk_of(test::flat_grid(4, 0.1, 0.0, 0.65, 0.35));
+  const DiskMesh before = small;
+  EXPECT_FALSE(clip_disk_to_cube(small, centre, 0.1));
+  EXPECT_EQ(small.positions, before.positions);
+  EXPECT_EQ(small.triangles, before.triangles);
 }
 
 }  // namespace

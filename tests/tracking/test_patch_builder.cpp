@@ -98,6 +98,26 @@ TEST(PatchBuilder, FlatGridPatchIsUndistortedAndMetric) {
   EXPECT_LT(p.anchor.x(), 1.0);
 }
 
+TEST(PatchBuilder, APatchOnTrianglesFarLargerThanItsDiskStaysDiskSized) {
+  // A sheet of 8 triangles, each half a unit across, and d = 0.01: the
+  // triangle under the disk covers some 280 selection balls. Remeshed whole
+  // at 0.35·d it would be some 20,000 triangles; cut to the selection cube,
+  // the patch has the vertices of a patch on a fine mesh, within a few d.
+  const FrameMesh mesh = test::flat_grid(2, 1.0);
+  const SurfaceIndex surface(mesh);
+  TrackingOptions o;
+  o = o.resolved(1.0);
+  o.radius = 0.01;
+  std::string why;
+  const Vec3 centre(0.3, 0.2, 0.0);
+  const auto patch = build_patch(surface, sample_near(surface, centre), o, 1, 1, 1, 0.35 * o.d(), &why);
+  ASSERT_TRUE(patch) << why;
+  EXPECT_LT(patch->num_vertices(), 600u);
+  EXPECT_GT(patch->num_vertices(), 50u);
+  const double reach = kSelectionCube * (1.0 + o.selection_margin) * o.d();
+  for (const Vec3& p : patch->positions) EXPECT_LE((p - centre).cwiseAbs().maxCoeff(), reach + 1e-9);
+}
+
 TEST(PatchBuilder, SelectionStaysADiskAroundAHole) {
   // A grid with a hole of one quad near the centre: the patch must stay a
   // topological disk (one boundary loop) so LSCM applies.

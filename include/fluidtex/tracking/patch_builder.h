@@ -26,8 +26,17 @@ namespace fluidtex {
 std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSample& centre, double select_radius,
                                     double patch_vertex_angle);
 
+/// A patch's selection larger than this many areas of its selection ball
+/// (π r², r = (1 + β)·d) is cut to the cube of half-size kSelectionCube × r
+/// around its centre (build_patch). The triangles reaching into the ball
+/// cover about 1.4 balls where the input's edges are d/5, 3 where they are
+/// as long as the ball's radius: only inputs far coarser than d are cut.
+inline constexpr double kMaxSelectionArea = 8.0;
+inline constexpr double kSelectionCube = 2.0;
+
 /// Builds the patch of a new disk; `options` must be resolved (radius > 0).
-/// The copied selection is remeshed (CGAL isotropic remeshing, vertices kept
+/// The copied selection, cut to a cube where it is far larger than its ball
+/// (kMaxSelectionArea), is remeshed (CGAL isotropic remeshing, vertices kept
 /// on the surface) to triangles of about `edge_length` (≤ 0: keep the
 /// surface's own triangles) before LSCM. Returns nullopt (with the reason in
 /// `failure`) when no usable patch can be made, e.g. when the LSCM solve

@@ -41,9 +41,37 @@ namespace fluidtex {
 /// radius far below the scene's detail would take hours and gigabytes.
 inline constexpr long long kMaxDisks = 2000000;
 
-/// InputError naming --radius when the first frame's surface would hold more
-/// than kMaxDisks disks of the resolved radius.
-void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved);
+/// The memory tracking takes, estimated before the first frame: patches
+/// (kPatchesPerDisk per disk of area πd², as Poisson disks pack), each with
+/// the vertices its selection remeshes to at edges of patch_edge·d, each
+/// vertex taking about kBytesPerPatchVertex with everything that follows it
+/// (the patch, its state, the coverage and locator indices, synthesis's
+/// bins). A selection is the triangles reaching into the ball of radius
+/// r = (1 + β)·d, about π(r + e)² for the input's mean edge e, with 1.6
+/// times the vertices of its area (remeshing splits the input's border
+/// edges), or, cut to its cube on a coarse input, about 5 balls (a plane's
+/// section of the cube, 16 r²). Measured (patches per disk, vertices per
+/// patch, peak resident memory against the estimate):
+///
+/// | input | --radius | patches/disk | vertices/patch (estimate) | memory (estimate) |
+/// |---|---|---|---|---|
+/// | rotation, 16 cells (edges 4.7·d) | 0.03 | 1.9 | 401 (382) | 1.17 GB (1.2) |
+/// | rotation, 16 cells (edges 7·d) | 0.02 | 1.9 | 295 (380) | 1.71 GB (2.7) |
+/// | blender-drop, frames 1–2 (edges about d) | 0.02 | 1.9 | 153 (327) | 1.40 GB (2.1) |
+///
+/// The estimate is up to 1.6 times the need: a job is refused only when the
+/// estimate exceeds what the process may use.
+inline constexpr double kPatchesPerDisk = 1.9;
+inline constexpr double kBytesPerPatchVertex = 1500.0;
+
+/// The estimate above for the first frame, in bytes.
+double tracking_memory_estimate(const SurfaceIndex& surface, const TrackingOptions& resolved, double patch_edge);
+
+/// InputError naming --radius, before tracking, when the first frame's
+/// surface would hold more than kMaxDisks disks of the resolved radius, or
+/// when their patches would need more memory (tracking_memory_estimate)
+/// than the process may use (memory_limit_bytes), with the estimate.
+void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resolved, double patch_edge);
 
 struct TrackerSettings {
   TrackingOptions tracking;  ///< Table 3/4 parameters (resolved on the first frame)

@@ -2,7 +2,16 @@
 /// @brief Process-wide memory settings for a frame-by-frame batch job.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+
 namespace fluidtex {
+
+/// The memory this process may use, in bytes: the least of the machine's
+/// physical memory, the address-space limit (ulimit -v, a farm slot's) and
+/// the cgroup's memory.max (a container's or a Slurm job's); nullopt when
+/// none can be read.
+std::optional<std::uint64_t> memory_limit_bytes();
 
 /// Keeps freed memory in the process for the next frame: every frame
 /// allocates and frees the same atlas-sized buffers (tens to hundreds of MB:
