@@ -135,11 +135,25 @@ JobOptions read_job_file(const std::string& path) {
 }
 
 JobOptions read_job_manifest(const std::string& run_dir) {
+  namespace fs = std::filesystem;
   const std::string path = run_dir + "/job.toml";
-  if (!std::filesystem::exists(path)) {
+  if (!fs::exists(path)) {
     throw InputError(path, "missing: not the output folder of a fluidtex run (or one made before job.toml existed)");
   }
-  return read_job_file(path);
+  JobOptions o = read_job_file(path);
+  if (o.output.dir.empty()) return o;
+  const fs::path recorded = fs::absolute(o.output.dir).lexically_normal(),
+                 here = fs::absolute(run_dir).lexically_normal();
+  if (recorded == here) return o;
+  const auto relocate = [&](std::string& pattern) {
+    if (pattern.empty()) return;
+    const fs::path inside = fs::absolute(pattern).lexically_normal().lexically_relative(recorded);
+    if (!inside.empty() && *inside.begin() != "..") pattern = (here / inside).string();
+  };
+  relocate(o.output.atlas_pattern);
+  relocate(o.output.mesh_pattern);
+  for (std::string& layer : o.output.layer_patterns) relocate(layer);
+  return o;
 }
 
 }  // namespace fluidtex

@@ -1,6 +1,7 @@
 // A job is a contract (job/job_record.h): --resume and synth refuse a job
 // whose options, version or exemplar differ, in one line with exit 2, and
-// find a cache mounted elsewhere by its content.
+// find a cache mounted elsewhere by its content; a moved output folder is
+// read where it is now.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -174,6 +175,28 @@ TEST(JobRecord, TheExemplarSizeReadsBackAndABadOneIsNamed) {
       EXPECT_NE(std::string(e.what()).find("' is not a length > 0"), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(JobRecord, AMovedOutputFolderIsReadWhereItIsNow) {
+  // Patterns given inside the output folder are recorded as absolute paths:
+  // read from a copy of the folder, they are taken in the copy (compare
+  // would otherwise compare the original with itself); one outside stays.
+  test::TempDir dir;
+  const std::string run = scene(dir) + "--frames 1-2 -o " + q(dir.file("out")) + " --atlas " +
+                          q(dir.file("out/tex/atlas.####.exr")) + " --mesh " + q(dir.file("meshes/m.####.obj"));
+  std::string out;
+  ASSERT_EQ(run_fluidtex(run, &out), 0) << out;
+  test::TempDir elsewhere;
+  fs::copy(dir.path() / "out", elsewhere.path() / "copy", fs::copy_options::recursive);
+  const JobOptions moved = read_job_manifest(elsewhere.file("copy"));
+  EXPECT_EQ(moved.output.atlas(), elsewhere.file("copy/tex/atlas.####.exr"));
+  EXPECT_EQ(moved.output.mesh(), dir.file("meshes/m.####.obj"));
+  EXPECT_EQ(read_job_manifest(dir.file("out")).output.atlas(), dir.file("out/tex/atlas.####.exr"));
+  EXPECT_EQ(run_fluidtex("compare " + q(dir.file("out")) + " " + q(elsewhere.file("copy")), &out), 0) << out;
+  // Damage in the copy is the copy's.
+  const fs::path atlas = elsewhere.path() / "copy/tex/atlas.0002.exr";
+  test::write_file(atlas, test::read_file(dir.path() / "out/tex/atlas.0001.exr"));
+  EXPECT_EQ(run_fluidtex("compare " + q(dir.file("out")) + " " + q(elsewhere.file("copy")), &out), 1) << out;
 }
 
 TEST(JobRecord, ACacheMountedElsewhereIsFoundWhereAStepIsToldAndCheckedByContent) {

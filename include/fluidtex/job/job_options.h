@@ -216,7 +216,11 @@ void apply_job_file(JobOptions& o, const std::string& path, const std::function<
 /// gives, over the defaults (apply_job_file).
 JobOptions read_job_file(const std::string& path);
 
-/// The options a finished run was made with, from RUN_DIR/job.toml.
+/// The options a finished run was made with, from RUN_DIR/job.toml. A
+/// folder moved or copied since: an output pattern the job recorded inside
+/// its output folder (`--atlas`, `--mesh`, the layers') is taken at the
+/// same place in RUN_DIR, where its files now are; one outside stays (the
+/// recorded output folder itself is left: callers set it).
 JobOptions read_job_manifest(const std::string& run_dir);
 
 template <class Self, class F>
