@@ -555,7 +555,19 @@ JobSummary run_job(const JobOptions& requested, Reporter& reporter) {
       start_texturing(options, stamped, sequence, written, source, reporter, first, summary);
   RunFrames frames(options, sequence, written, *method, first, summary, reporter);
   write_text_atomically(job_record_path(options.output.dir), job_record_toml(record));
-  frames.run();
+  try {
+    frames.run();
+  } catch (...) {
+    // A new job that made no frame leaves no record either: the folder is
+    // as the run found it (emptied by --force), and the corrected command
+    // runs without --force.
+    if (summary.frames == 0 && !options.output.resume) {
+      std::error_code ignored;
+      std::filesystem::remove(job_record_path(options.output.dir), ignored);
+      std::filesystem::remove(options.output.dir + "/stats.jsonl", ignored);
+    }
+    throw;
+  }
   if (method->failed() > 0) {
     reporter.warn(std::to_string(method->failed()) +
                   " new disks got no patch (degenerate selection or failed LSCM solve)");

@@ -642,12 +642,13 @@ TEST(OutOfMemory, TheOptionThatDrivesTheMemoryIsNamed) {
       std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find(" GB): raise --radius\n"), std::string::npos) << r.err;  // the limit: 2.1 GB or less
-  EXPECT_FALSE(fs::exists(dir.path() / "out" / "state"));
-  ASSERT_EQ(run_limited({"run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", "small", "--atlas-size", "64"},
+  // Nothing is left: the corrected command runs without --force.
+  EXPECT_EQ(test::list_dir(dir.path() / "out"), std::vector<std::string>{});
+  ASSERT_EQ(run_limited({"run", "-q", "-i", "rotation.####.ply", "-e", "ex.png", "-o", "out", "--atlas-size", "64"},
                         dir.path())
                 .code,
             0);
-  const Outcome p = run_limited({"preview", "small", "--width", "16384"}, dir.path(), 60.0, 1ull << 30, true);
+  const Outcome p = run_limited({"preview", "out", "--width", "16384"}, dir.path(), 60.0, 1ull << 30, true);
   EXPECT_EQ(p.code, 2) << p.err;
   EXPECT_EQ(p.err, "fluidtex: error: out of memory: lower --width, or give the job more memory\n");
 }
