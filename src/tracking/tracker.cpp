@@ -92,12 +92,7 @@ Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
 double tracking_memory_estimate(const SurfaceIndex& surface, const TrackingOptions& resolved, double patch_edge) {
-  const FrameMesh& mesh = surface.mesh();
-  double edges = 0.0;
-  for (const Tri& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) edges += (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).norm();
-  }
-  const double e = mesh.triangles.empty() ? 0.0 : edges / (3.0 * static_cast<double>(mesh.triangles.size()));
+  const double e = mean_edge_length(surface.mesh());
   const double d = resolved.d(), r = (1.0 + resolved.selection_margin) * d;
   const double selection = std::min(1.6 * M_PI * (r + e) * (r + e), 5.0 * M_PI * r * r);
   const double a = patch_edge > 0.0 ? patch_edge * d : e;  // remeshed, or the input's own triangles

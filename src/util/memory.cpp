@@ -2,7 +2,6 @@
 
 #include <malloc.h>
 #include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <charconv>
@@ -10,13 +9,14 @@
 #include <fstream>
 #include <string>
 
+#include <OpenImageIO/sysutil.h>
+
 namespace fluidtex {
 
 std::optional<std::uint64_t> memory_limit_bytes() {
   std::optional<std::uint64_t> limit;
   const auto lower = [&](std::uint64_t bytes) { limit = limit ? std::min(*limit, bytes) : bytes; };
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-  if (pages > 0 && page > 0) lower(static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page));
+  if (const std::size_t physical = OIIO::Sysutil::physical_memory(); physical > 0) lower(physical);
   rlimit as{};
   if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) lower(as.rlim_cur);
   std::ifstream cgroup("/sys/fs/cgroup/memory.max");  // cgroup v2; "max" when unlimited

@@ -28,9 +28,10 @@ std::vector<int> select_patch_faces(const SurfaceIndex& surface, const SurfaceSa
 
 /// A patch's selection larger than this many areas of its selection ball
 /// (π r², r = (1 + β)·d) is cut to the cube of half-size kSelectionCube × r
-/// around its centre (build_patch). The triangles reaching into the ball
-/// cover about 1.4 balls where the input's edges are d/5, 3 where they are
-/// as long as the ball's radius: only inputs far coarser than d are cut.
+/// around its centre (build_patch). The triangles reaching into the ball lie
+/// within r + e of its centre, e the input's edge length: about 1.3 balls
+/// where e = d/5, at most 4 where e = r: only inputs far coarser than d are
+/// cut.
 inline constexpr double kMaxSelectionArea = 8.0;
 inline constexpr double kSelectionCube = 2.0;
 
