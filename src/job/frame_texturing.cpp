@@ -50,6 +50,7 @@ SynthesisOptions synthesis_options(const TrackingOptions& resolved, const Synthe
   synth.blend = so.blend;
   synth.scheme = so.scheme;
   synth.weight_cutoff = so.weight_cutoff;
+  synth.sharpness = so.sharpness;
   synth.uv_scale = resolved.uv_scale;
   synth.radius = resolved.d();
   // One exemplar tile spans (2 + β)·d at s = 1 unless --exemplar-size says:
@@ -129,6 +130,7 @@ void add_counts(SynthesisResult& total, const SynthesisResult& tile) {
   total.uncovered_texels += tile.uncovered_texels;
   total.margin_texels += tile.margin_texels;
   total.clamped_texels += tile.clamped_texels;
+  total.dominant_texels += tile.dominant_texels;
   total.binned_triangles += tile.binned_triangles;
   total.projected_triangles += tile.projected_triangles;
 }
@@ -188,6 +190,8 @@ void add_atlas_stats(const Atlas& atlas, const TilesMade& made, FrameStats& stat
   stats.extra.emplace_back("projected_triangles", static_cast<double>(total.projected_triangles));
   stats.extra.emplace_back("clamped_fraction",
                            total.chart_texels ? static_cast<double>(total.clamped_texels) / total.chart_texels : 0.0);
+  stats.extra.emplace_back("dominant_fraction",
+                           total.chart_texels ? static_cast<double>(total.dominant_texels) / total.chart_texels : 0.0);
   stats.extra.emplace_back("texels_per_second", made.synth_seconds > 0 ? total.chart_texels / made.synth_seconds : 0.0);
 }
 

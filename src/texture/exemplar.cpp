@@ -1,13 +1,23 @@
 #include "fluidtex/texture/exemplar.h"
 
+#include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <numeric>
+
+#include <Eigen/Eigenvalues>
 
 #include "fluidtex/io/image_io.h"
 #include "fluidtex/util/error.h"
 
 namespace fluidtex {
 
-Exemplar::Exemplar(Image image) : image_(std::move(image)) {
+struct Exemplar::Lazy {
+  std::once_flag once;
+  std::unique_ptr<GaussianExemplar> gaussian;
+};
+
+Exemplar::Exemplar(Image image) : lazy_(std::make_shared<Lazy>()), image_(std::move(image)) {
   if (image_.width < 1 || image_.height < 1 || image_.channels < 1) throw InputError("", "empty exemplar image");
   channels_ = image_.channels >= 3 ? 3 : 1;
   const std::size_t n = static_cast<std::size_t>(image_.width) * image_.height;
@@ -37,6 +47,11 @@ Exemplar Exemplar::load(const std::string& path) {
   }
 }
 
+const GaussianExemplar& Exemplar::gaussian() const {
+  std::call_once(lazy_->once, [&] { lazy_->gaussian = std::make_unique<GaussianExemplar>(*this); });
+  return *lazy_->gaussian;
+}
+
 void Exemplar::sample(double u, double v, float* out) const {
   const int w = image_.width, h = image_.height;
   // Texel centres at (i + ½)/w; v up, rows down.
@@ -64,6 +79,126 @@ void Exemplar::sample(double u, double v, float* out) const {
   const float a = static_cast<float>((1 - tx) * (1 - ty)), b = static_cast<float>(tx * (1 - ty));
   const float c = static_cast<float>((1 - tx) * ty), d = static_cast<float>(tx * ty);
   for (int k = 0; k < channels_; ++k) out[k] = a * p00[k] + b * p10[k] + c * p01[k] + d * p11[k];
+}
+
+namespace {
+
+/// Entries of each axis's inverse-CDF table over [−kRange, kRange].
+constexpr int kInverseTable = 1024;
+
+/// Φ, the standard normal CDF.
+double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+
+/// Φ⁻¹(q) for q in (0, 1): Abramowitz and Stegun 26.2.23 (error below
+/// 4.5e-4), then two Newton steps on Φ.
+double normal_quantile(double q) {
+  const double tail = std::min(q, 1.0 - q);
+  const double t = std::sqrt(-2.0 * std::log(tail));
+  double x =
+      t - (2.515517 + 0.802853 * t + 0.010328 * t * t) / (1.0 + 1.432788 * t + 0.189269 * t * t + 0.001308 * t * t * t);
+  if (q < 0.5) x = -x;
+  for (int i = 0; i < 2; ++i) {
+    const double density = std::exp(-0.5 * x * x) / std::sqrt(2.0 * M_PI);
+    x -= (normal_cdf(x) - q) / density;
+  }
+  return x;
+}
+
+/// The principal axes of the exemplar's colours (rows of `axes`): the
+/// eigenvectors of their covariance, each signed so that its largest
+/// component is positive. One channel: the channel itself.
+std::array<std::array<double, 3>, 3> principal_axes(const Exemplar& exemplar) {
+  std::array<std::array<double, 3>, 3> axes{};
+  if (exemplar.channels() == 1) {
+    axes[0] = {1.0, 0.0, 0.0};
+    return axes;
+  }
+  const Image& image = exemplar.image();
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::Vector3d c;
+    for (int k = 0; k < 3; ++k) c[k] = image.pixel(i)[k] - exemplar.mean()[k];
+    covariance += c * c.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance / static_cast<double>(n));
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d axis = solver.eigenvectors().col(2 - k);  // the largest variance first
+    Eigen::Index largest;
+    axis.cwiseAbs().maxCoeff(&largest);
+    if (axis[largest] < 0.0) axis = -axis;
+    axes[k] = {axis[0], axis[1], axis[2]};
+  }
+  return axes;
+}
+
+/// Ranks → normal scores: `value[order[i]]` ascending in i; texels of equal
+/// value take the score of their mean rank.
+void gaussianise(const std::vector<double>& value, const std::vector<std::size_t>& order, Image& out, int channel) {
+  const std::size_t n = order.size();
+  for (std::size_t first = 0; first < n;) {
+    std::size_t last = first;
+    while (last + 1 < n && value[order[last + 1]] == value[order[first]]) ++last;
+    const double rank = 0.5 * static_cast<double>(first + last);
+    const auto score = static_cast<float>(normal_quantile((rank + 0.5) / static_cast<double>(n)));
+    for (std::size_t i = first; i <= last; ++i) out.pixel(order[i])[channel] = score;
+    first = last + 1;
+  }
+}
+
+/// The inverse CDF of one axis, tabulated over G ∈ [−kRange, kRange].
+std::vector<float> inverse_table(const std::vector<double>& value, const std::vector<std::size_t>& order) {
+  const std::size_t n = order.size();
+  std::vector<float> table(kInverseTable);
+  for (int j = 0; j < kInverseTable; ++j) {
+    const double g = GaussianExemplar::kRange * (2.0 * j / (kInverseTable - 1) - 1.0);
+    const double at = std::clamp(normal_cdf(g) * static_cast<double>(n) - 0.5, 0.0, static_cast<double>(n - 1));
+    const auto below = static_cast<std::size_t>(at);
+    const std::size_t above = std::min(below + 1, n - 1);
+    const double t = at - static_cast<double>(below);
+    table[j] = static_cast<float>((1.0 - t) * value[order[below]] + t * value[order[above]]);
+  }
+  return table;
+}
+
+}  // namespace
+
+GaussianExemplar::GaussianExemplar(const Exemplar& exemplar) : channels_(exemplar.channels()) {
+  const Image& image = exemplar.image();
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  for (int c = 0; c < channels_; ++c) mean_[c] = exemplar.mean()[c];
+  axes_ = principal_axes(exemplar);
+  Image gaussian = Image::blank(image.width, image.height, channels_);
+  std::vector<double> value(n);
+  std::vector<std::size_t> order(n);
+  for (int k = 0; k < channels_; ++k) {
+    for (std::size_t i = 0; i < n; ++i) {
+      double v = 0.0;
+      for (int c = 0; c < channels_; ++c) v += axes_[k][c] * (image.pixel(i)[c] - mean_[c]);
+      value[i] = v;
+    }
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return value[a] < value[b] || (value[a] == value[b] && a < b); });
+    gaussianise(value, order, gaussian, k);
+    inverse_[k] = inverse_table(value, order);
+  }
+  image_ = std::make_unique<Exemplar>(std::move(gaussian));
+}
+
+void GaussianExemplar::to_colour(const double* g, float* out) const {
+  std::array<double, 3> along{};
+  for (int k = 0; k < channels_; ++k) {
+    const double at = std::clamp((g[k] / kRange + 1.0) * 0.5 * (kInverseTable - 1), 0.0, kInverseTable - 1.0);
+    const int below = std::min(static_cast<int>(at), kInverseTable - 2);
+    const double t = at - below;
+    along[k] = (1.0 - t) * inverse_[k][below] + t * inverse_[k][below + 1];
+  }
+  for (int c = 0; c < channels_; ++c) {
+    double v = mean_[c];
+    for (int k = 0; k < channels_; ++k) v += along[k] * axes_[k][c];
+    out[c] = static_cast<float>(v);
+  }
 }
 
 }  // namespace fluidtex

@@ -148,6 +148,7 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
     FLUIDTEX_CHECK_EQ(uv.size(), mesh.num_vertices());
   }
   SynthesisResult result = SynthesisResult::blank(n, nc, aov);
+  const Blender blender(exemplar, blend);
   const double w0 = frame.weight[0], w1 = frame.weight[1];
   const double sum_w = w0 + w1, sum_w2 = w0 * w0 + w1 * w1;
   const int dominant = w0 >= w1 ? 0 : 1;
@@ -175,11 +176,11 @@ SynthesisResult synthesize_flowmap(const SurfaceIndex& surface, const Atlas& atl
         if (!(w > 0.0)) continue;
         const std::vector<Vec2>& uv = frame.uv[k];
         const Vec2 u = frame.anchor[k] + frame.uv_scale * interpolate(uv, tri, l);
-        float r[3];
-        exemplar.sample(u.x(), u.y(), r);
-        for (int c = 0; c < nc; ++c) sum[c] += w * static_cast<double>(blend_term(blend, r[c], exemplar.mean()[c]));
+        double term[3];
+        blender.sample(u.x(), u.y(), term);
+        for (int c = 0; c < nc; ++c) sum[c] += w * term[c];
       }
-      t.clamped += resolve_blend(blend, sum, sum_w, sum_w2, exemplar.mean(), nc, result.color.pixel(i));
+      t.clamped += blender.resolve(sum, sum_w, sum_w2, result.color.pixel(i));
       if (aov) {
         result.weight.pixels[i] = static_cast<float>(sum_w);
         result.count.pixels[i] = static_cast<float>((w0 > 0.0) + (w1 > 0.0));

@@ -171,7 +171,7 @@ struct TexelSum {
 struct Contributor {
   const std::vector<Patch>& patches;
   const std::vector<std::vector<float>>& core;  // per patch and vertex: core_weight
-  const Exemplar& exemplar;
+  const Blender& blender;
   const SynthesisOptions& options;
   double lookup_scale;  // s / tile_size
 
@@ -183,12 +183,10 @@ struct Contributor {
     return {interpolate(p.weight, tri, l), interpolate(c, tri, l)};
   }
 
-  void sample(int patch, const Vec2& uv, double* centred) const {
+  void sample(int patch, const Vec2& uv, double* term) const {
     const Patch& p = patches[patch];
-    float r[3];
     const Vec2 at = p.anchor + lookup_scale * (uv + p.texture_offset);
-    exemplar.sample(at.x(), at.y(), r);
-    for (int c = 0; c < exemplar.channels(); ++c) centred[c] = blend_term(options.blend, r[c], exemplar.mean()[c]);
+    blender.sample(at.x(), at.y(), term);
   }
 
   /// A patch contributes once per texel, through the first of its
@@ -220,15 +218,19 @@ struct Contributor {
   }
 
   /// The core weight a texel blends: lowered by the cutoff times the texel's
-  /// largest core, so that a patch enters and leaves a texel continuously.
-  double cut(double core, double max_core) const { return std::max(0.0, core - options.weight_cutoff * max_core); }
+  /// largest core, so that a patch enters and leaves a texel continuously,
+  /// then sharpened (SynthesisOptions::sharpness).
+  double cut(double core, double max_core) const {
+    const double top = (1.0 - options.weight_cutoff) * max_core;
+    return sharpened(std::max(0.0, core - options.weight_cutoff * max_core), top, options.sharpness);
+  }
 
   /// Blends the tile's contributions into `s`: every contribution with a
   /// core (its tail too, for λ), then the tail-only contributions of texels
   /// with λ > 0, each in the order they came. A sample is looked up only for
   /// a weight that counts.
   void blend(const Accumulator& acc, std::vector<TexelSum>& sums) const {
-    const int nc = exemplar.channels();
+    const int nc = blender.channels();
     double centred[3] = {0, 0, 0};
     for (const Contribution& k : acc.list) {
       if (!(k.core > 0.0)) continue;
@@ -266,18 +268,6 @@ struct Contributor {
 };
 
 }  // namespace
-
-bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
-                   int channels, float* out) {
-  bool out_of_range = false;
-  for (int c = 0; c < channels; ++c) {
-    const double v = blend == Blend::ContrastPreserving ? sum[c] / std::sqrt(sum_w2) + mean[c]  // Eq. 7
-                                                        : sum[c] / sum_w;
-    out_of_range = out_of_range || v < 0.0 || v > 1.0;
-    out[c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
-  }
-  return out_of_range;
-}
 
 Vec3 TexelMap::bary(std::size_t i) const {
   FLUIDTEX_DCHECK(face[i] >= 0);
@@ -478,10 +468,10 @@ struct TileSums {
   }
 };
 
-/// Per-tile counts of chart, bare, margin-filled (accumulate_tails) and
-/// clamped texels.
+/// Per-tile counts of chart, bare, margin-filled (accumulate_tails),
+/// clamped and dominated (kDominantWeight) texels.
 struct Tally {
-  std::size_t chart = 0, bare = 0, margin = 0, clamped = 0;
+  std::size_t chart = 0, bare = 0, margin = 0, clamped = 0, dominant = 0;
 };
 
 /// One frame's synthesis: binning, then per tile raster, projected fallback
@@ -520,11 +510,12 @@ class Synthesizer {
               const Exemplar& exemplar, const SynthesisOptions& options)
       : surface_(surface), atlas_(atlas), map_(map), patches_(patches), exemplar_(exemplar), options_(options),
         n_(atlas.size), tiles_{n_, n_, kTile}, tolerance_(options.projection_tolerance),
+        blender_(exemplar, options.blend),
         // Texels just outside a patch's boundary edge still take it (the same
         // in-plane slack as the projection): the corners of a polygonal rim
         // between two patch border points would be holes otherwise.
         slack_px_(projection_slack(tolerance_) * atlas.texels_per_unit), pad_(static_cast<int>(std::ceil(slack_px_))),
-        core_(core_weights(patches, options)), contribute_{patches, core_, exemplar, options,
+        core_(core_weights(patches, options)), contribute_{patches, core_, blender_, options,
                                                            options.uv_scale / options.tile_size} {}
 
   SynthesisResult run();
@@ -555,7 +546,9 @@ class Synthesizer {
   const SynthesisOptions& options_;
   const int n_;
   const TileGrid tiles_;
-  const double tolerance_, slack_px_;
+  const double tolerance_;
+  const Blender blender_;
+  const double slack_px_;
   const int pad_;
   const std::vector<std::vector<float>> core_;
   const Contributor contribute_;
@@ -994,8 +987,8 @@ void Synthesizer::resolve_tile(TileSums& tile, SynthesisResult& result, std::vec
         for (int c = 0; c < nc; ++c) result.color.pixel(i)[c] = exemplar_.mean()[c];
         continue;
       }
-      tally.clamped +=
-          resolve_blend(options_.blend, sum.data(), sum_w, sum_w2, exemplar_.mean(), nc, result.color.pixel(i));
+      tally.clamped += blender_.resolve(sum.data(), sum_w, sum_w2, result.color.pixel(i));
+      tally.dominant += s.best_w >= kDominantWeight * sum_w;
     }
   }
 }
@@ -1036,6 +1029,7 @@ SynthesisResult Synthesizer::run() {
     result.uncovered_texels += t.bare;
     result.margin_texels += t.margin;
     result.clamped_texels += t.clamped;
+    result.dominant_texels += t.dominant;
   }
   dilate(result.color, mask, 8);
   return result;

@@ -12,6 +12,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fluidtex/geometry/point_index.h"
+#include "fluidtex/tracking/orientation.h"
 #include "fluidtex/tracking/patch_builder.h"
 #include "fluidtex/tracking/patch_coverage.h"
 #include "fluidtex/tracking/patch_distortion.h"
@@ -123,6 +124,7 @@ void check_disk_budget(const SurfaceIndex& surface, const TrackingOptions& resol
 StepReport Tracker::step(std::shared_ptr<const FrameMesh> mesh, int frame, double dt) {
   StepReport report;
   report.frame = frame;
+  step_dt_ = dt;
   std::shared_ptr<const SurfaceIndex> surface;
   {
     const ScopedStage stage(report.seconds, "surface");
@@ -518,12 +520,19 @@ void Tracker::add_patches(const SurfaceIndex& surface, const std::vector<Surface
 void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<SurfaceSample>& fresh, int frame,
                             StepReport& report) {
   const TrackingOptions& o = settings_.tracking;
-  // Built in parallel; ids are fixed before the loop.
+  // Built in parallel; ids are fixed before the loop. Each is turned to
+  // the orientation field of the patches there before the batch.
+  std::unique_ptr<PatchCoverage> coverage;
+  if (o.orientation != Orientation::Random && !patches_.empty())
+    coverage = std::make_unique<PatchCoverage>(patches_, o.mpt());
+  const OrientationContext orient{surface, patches_, coverage.get(), step_dt_};
   std::vector<std::optional<Patch>> built(fresh.size());
   parallel_each(fresh.size(), [&](std::size_t i) {
     built[i] = build_patch(surface, fresh[i], o, next_id_ + static_cast<std::uint32_t>(i), settings_.seed, frame,
                            settings_.patch_edge * o.d());
-    if (built[i]) update_distortion(*built[i], surface, o);
+    if (!built[i]) return;
+    turn_uv(*built[i], orientation_angle(*built[i], orient, o));
+    update_distortion(*built[i], surface, o);
   });
   next_id_ += static_cast<std::uint32_t>(fresh.size());
   for (std::optional<Patch>& p : built) {

@@ -2,7 +2,7 @@
 // fixed-width fields; doubles are stored bit-exactly so a reloaded state
 // continues exactly as the original would have.
 //
-// Layout (version 10; version 9 had no gap-fill and sink settings
+// Layout (version 11; version 10 had no orientation settings, version 9 had no gap-fill and sink settings
 // and no per-patch sunk log-area, version 8 had no birth-gap setting, version 7 no
 // projection-slack setting, version 6 no
 // birth-margin setting, version 5 no
@@ -39,7 +39,7 @@ namespace fluidtex {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'T', 'X', 'S', 'T', 'A', 'T', 'E'};
-constexpr std::uint32_t kVersion = 10;
+constexpr std::uint32_t kVersion = 11;
 constexpr std::size_t kStreams = 3;  // 8-, 4- and 1-byte fields
 static_assert(std::tuple_size_v<decltype(Tracker::UnpackedState::streams)> == kStreams);
 constexpr std::size_t kTypeSize[kStreams] = {8, 4, 1};

@@ -105,6 +105,7 @@ struct SynthesisJobOptions {
   ColorSpaceOptions color;                           ///< --ocio-config and the --*-colorspace names
   Blend blend = Blend::ContrastPreserving;           ///< --blend
   double weight_cutoff = 0.1;                        ///< --weight-cutoff (SynthesisOptions::weight_cutoff)
+  double sharpness = 1.0;                            ///< --blend-sharpness (SynthesisOptions::sharpness)
   SynthesisScheme scheme = SynthesisScheme::Raster;  ///< --synthesis
   std::vector<std::string> aov;                      ///< --aov: the AOV layers of kFrameLayers
   bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar
@@ -126,13 +127,19 @@ struct SynthesisJobOptions {
       o.exemplar_size);
     ColorSpaceOptions::for_each_option(o.color, f);
     f(OptionInfo{.name = "blend",
-                 .help = "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w)"},
+                 .help = "contrast: Eq. 7, contrast preserving (results clamped to [0,1]); linear: sum(w R)/sum(w); "
+                         "histogram: histogram preserving (Heitz and Neyret 2018), the exemplar's own colours"},
       o.blend);
     f(OptionInfo{.name = "weight-cutoff",
                  .help = "Each texel blends its patches' weights lowered by this fraction of its largest one: "
                          "fewer, sharper overlaps (0: every overlapping patch, as the paper)",
                  .bounds = between(0.0, 0.95)},
       o.weight_cutoff);
+    f(OptionInfo{.name = "blend-sharpness",
+                 .help = "Each texel's patch weights are raised to this power (relative to its largest): most "
+                         "texels show one patch, with narrow transitions (1: as they are, the paper)",
+                 .bounds = between(1.0, 64.0)},
+      o.sharpness);
     f(OptionInfo{.name = "synthesis",
                  .help = "raster: patch triangles rasterised in atlas space; exact: per-texel projection "
                          "(reference, slow)"},

@@ -52,21 +52,16 @@ enum class TexturingMethod {
   Patches,  ///< Gagnon et al. 2019 (the default)
   FlowMap,  ///< two-phase advected UVs (this header)
 };
-/// Rest-parameterisation axis (`--flowmap-axis`).
-enum class Axis { X, Y, Z };
 
 inline constexpr EnumName<TexturingMethod> kTexturingMethodNames[] = {{TexturingMethod::Patches, "patches"},
                                                                       {TexturingMethod::FlowMap, "flowmap"}};
 constexpr const auto& enum_names(TexturingMethod) { return kTexturingMethodNames; }
 inline const char* to_string(TexturingMethod m) { return enum_name(m); }
-inline constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
-constexpr const auto& enum_names(Axis) { return kAxisNames; }
-inline const char* to_string(Axis a) { return enum_name(a); }
 
 struct FlowMapOptions {
   int period = 16;  ///< N: frames between two resets of a phase (>= 2)
   /// The rest uv is the position projected onto the plane perpendicular to
-  /// this axis. z: the generated scenes are flat in z = 0 or have z up.
+  /// this axis (Axis, tracking/options.h: `--flowmap-axis`). z: the generated scenes are flat in z = 0 or have z up.
   Axis axis = Axis::Z;
 
   /// Every field as f(OptionInfo, field) (util/options.h).

@@ -2,9 +2,8 @@
 /// @brief Texel synthesis into the frame's atlas (Gagnon et al. 2019, Sec. 6.4,
 /// Eq. 7, after Yu et al. 2011): for every texel covered by a chart, the
 /// patches overlapping its surface point, each patch's uv there and its
-/// weight w (vertex weights interpolated), blended as
-///   R'(x) = Σ w_i (R(u_i) − R̂) / sqrt(Σ w_i²) + R̂     (contrast preserving)
-/// or Σ w_i R(u_i) / Σ w_i (linear). Results outside [0,1] are clamped.
+/// weight w (vertex weights interpolated), blended as blend.h says (Eq. 7,
+/// linear, or histogram preserving).
 ///
 /// Two ways to find, per texel, the covering patches:
 ///  - `Raster` (default): every patch vertex already has its projection on
@@ -24,18 +23,15 @@
 #include <vector>
 
 #include "fluidtex/texture/atlas.h"
+#include "fluidtex/texture/blend.h"
 #include "fluidtex/texture/exemplar.h"
 #include "fluidtex/tracking/patch.h"
 #include "fluidtex/util/enum_names.h"
 
 namespace fluidtex {
 
-enum class Blend { ContrastPreserving, Linear };
 enum class SynthesisScheme { Raster, Exact };
 
-inline constexpr EnumName<Blend> kBlendNames[] = {{Blend::ContrastPreserving, "contrast"}, {Blend::Linear, "linear"}};
-constexpr const auto& enum_names(Blend) { return kBlendNames; }
-inline const char* to_string(Blend b) { return enum_name(b); }
 inline constexpr EnumName<SynthesisScheme> kSynthesisSchemeNames[] = {{SynthesisScheme::Raster, "raster"},
                                                                       {SynthesisScheme::Exact, "exact"}};
 constexpr const auto& enum_names(SynthesisScheme) { return kSynthesisSchemeNames; }
@@ -61,6 +57,10 @@ struct SynthesisOptions {
   /// enter and leave it continuously. 0 blends every overlapping patch (the
   /// paper). In [0, 1).
   double weight_cutoff = 0.0;
+  /// p: the (cut) core weights a texel blends are sharpened to
+  /// w_max·(w/w_max)^p (blend.h, sharpened), so that most texels show one
+  /// patch with a narrow transition to the next. 1 leaves them (the paper).
+  double sharpness = 1.0;
   double projection_tolerance =
       0;             ///< projection slack (scene units) of Exact and the projected fallback; the job sets mpt
   bool aov = false;  ///< also fill weight / count / patch layers
@@ -75,6 +75,7 @@ struct SynthesisResult {
   std::size_t uncovered_texels = 0;     ///< of those, texels with Σw = 0
   std::size_t margin_texels = 0;        ///< of those, texels only a patch's margin reaches (shown as a last resort)
   std::size_t clamped_texels = 0;       ///< texels where a channel left [0,1]
+  std::size_t dominant_texels = 0;      ///< texels where one patch carries at least kDominantWeight of Σw
   std::size_t binned_triangles = 0;     ///< patch triangles with a core weight, binned into tiles (Raster)
   std::size_t projected_triangles = 0;  ///< of those, the ones that took the projected fallback
   double uncovered_fraction() const {
@@ -90,6 +91,10 @@ struct SynthesisResult {
   }
 };
 
+/// The share of a texel's blended weight from which one patch "carries" it
+/// (SynthesisResult::dominant_texels).
+inline constexpr double kDominantWeight = 0.9;
+
 /// Which surface face (and where in it) each atlas texel centre shows.
 struct TexelMap {
   int size = 0;
@@ -104,20 +109,6 @@ struct TexelMap {
   /// a stored copy would be 24 bytes per atlas texel (100 MB at 2048²).
   Vec3 bary(std::size_t i) const;
 };
-
-/// One exemplar sample's term in the per-texel sums: R − R̂ for Eq. 7, R for
-/// linear blending (computed in float, as the sample is).
-inline float blend_term(Blend blend, float sample, float mean) {
-  return blend == Blend::ContrastPreserving ? sample - mean : sample;
-}
-
-/// Resolves one texel from its sums over the blended samples: `sum` holds
-/// Σ w·blend_term per channel, with Σw (> 0) and Σw². Writes Eq. 7,
-/// Σ w(R − R̂) / sqrt(Σw²) + R̂, or linear Σ wR / Σw, clamped to [0,1];
-/// returns true when a channel left [0,1] before clamping. Shared by the
-/// patch synthesis and the flow-map baseline (flowmap.h).
-bool resolve_blend(Blend blend, const double* sum, double sum_w, double sum_w2, const std::array<float, 3>& mean,
-                   int channels, float* out);
 
 /// Rasterises the charts of atlas tile `tile`: that tile's texel → surface map.
 TexelMap build_texel_map(const SurfaceIndex& surface, const Atlas& atlas, int tile = 0);

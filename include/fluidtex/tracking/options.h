@@ -108,6 +108,24 @@ enum class GapFill {
   Seed,  ///< a new disk on the bare surface, however close to a live one
 };
 
+/// Which way a new patch shows its exemplar (orientation.h).
+enum class Orientation {
+  /// The default (departure from the paper): as the live patches it
+  /// overlaps show theirs, or along --orientation-axis where it overlaps
+  /// none, so the exemplar keeps one direction across the surface and turns
+  /// only as the liquid turns it.
+  Field,
+  /// Along the surface velocity over its disk where that moves at least
+  /// kFlowOrientationMotion disk radii a frame (streaks that follow the
+  /// flow); as Field where it is slower.
+  Flow,
+  Random,  ///< as LSCM leaves its chart: an arbitrary angle per patch (the paper)
+};
+
+/// A world axis: the direction of a patch's u where it overlaps no live
+/// patch (--orientation-axis), the flow map's projection axis (--flowmap-axis).
+enum class Axis { X, Y, Z };
+
 inline constexpr EnumName<Criterion> kCriterionNames[] = {
     {Criterion::Ellipsoid, "ellipsoid"}, {Criterion::Sphere, "sphere"}, {Criterion::Plane, "plane"}};
 constexpr const auto& enum_names(Criterion) { return kCriterionNames; }
@@ -129,6 +147,13 @@ inline const char* to_string(BirthGap g) { return enum_name(g); }
 inline constexpr EnumName<GapFill> kGapFillNames[] = {{GapFill::Recut, "recut"}, {GapFill::Seed, "seed"}};
 constexpr const auto& enum_names(GapFill) { return kGapFillNames; }
 inline const char* to_string(GapFill g) { return enum_name(g); }
+inline constexpr EnumName<Orientation> kOrientationNames[] = {
+    {Orientation::Field, "field"}, {Orientation::Flow, "flow"}, {Orientation::Random, "random"}};
+constexpr const auto& enum_names(Orientation) { return kOrientationNames; }
+inline const char* to_string(Orientation o) { return enum_name(o); }
+inline constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
+constexpr const auto& enum_names(Axis) { return kAxisNames; }
+inline const char* to_string(Axis a) { return enum_name(a); }
 inline constexpr EnumName<Sink> kSinkNames[] = {{Sink::Fade, "fade"}, {Sink::Keep, "keep"}};
 constexpr const auto& enum_names(Sink) { return kSinkNames; }
 inline const char* to_string(Sink k) { return enum_name(k); }
@@ -160,6 +185,8 @@ struct TrackingOptions {
   BirthGap birth_gap = BirthGap::Patches;
   GapFill gap_fill = GapFill::Recut;
   Sink sink = Sink::Fade;
+  Orientation orientation = Orientation::Field;
+  Axis orientation_axis = Axis::X;
 
   /// Every field as f(OptionInfo, field), in the order of --help, the config
   /// file and the state file's settings block (util/options.h).
@@ -293,6 +320,14 @@ void TrackingOptions::for_each_rule_option(Self& o, F&& f) {
                .help = "where liquid destroys surface: fade (a too-close disk there goes at once) or keep (the "
                        "kill-frames wait, the paper)"},
     o.sink);
+  f(OptionInfo{.name = "orientation",
+               .help = "which way a new patch shows the exemplar: field (as the patches it overlaps, else along "
+                       "--orientation-axis), flow (along the surface velocity where it is fast) or random (the paper)"},
+    o.orientation);
+  f(OptionInfo{.name = "orientation-axis",
+               .help = "the world axis the exemplar's u follows where a new patch overlaps none (the next axis where "
+                       "the surface faces it)"},
+    o.orientation_axis);
 }
 
 }  // namespace fluidtex

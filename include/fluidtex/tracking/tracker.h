@@ -240,6 +240,7 @@ class Tracker {
   std::shared_ptr<const FrameMesh> mesh_;
   std::shared_ptr<const SurfaceIndex> surface_;  // refers to *mesh_
   std::uint32_t next_id_ = 0;
+  double step_dt_ = 0.0;  // the current step's dt (Orientation::Flow)
   int frame_ = 0;
   bool started_ = false;
 };
