@@ -14,12 +14,11 @@ Blender::Blender(const Exemplar& exemplar, Blend blend) : exemplar_(&exemplar), 
 void Blender::sample(double u, double v, double* term) const {
   float r[3];
   const int nc = channels();
+  exemplar_->sample(u, v, r);
   if (gaussian_) {
-    gaussian_->image().sample(u, v, r);
-    for (int c = 0; c < nc; ++c) term[c] = r[c];
+    gaussian_->to_gaussian(r, term);
     return;
   }
-  exemplar_->sample(u, v, r);
   for (int c = 0; c < nc; ++c)
     term[c] = blend_ == Blend::ContrastPreserving ? static_cast<double>(r[c] - exemplar_->mean()[c]) : r[c];
 }

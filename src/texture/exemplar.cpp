@@ -83,8 +83,8 @@ void Exemplar::sample(double u, double v, float* out) const {
 
 namespace {
 
-/// Entries of each axis's inverse-CDF table over [−kRange, kRange].
-constexpr int kInverseTable = 1024;
+/// Entries of each axis's tables.
+constexpr int kTable = 4096;
 
 /// Φ, the standard normal CDF.
 double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
@@ -104,8 +104,8 @@ double normal_quantile(double q) {
   return x;
 }
 
-/// The principal axes of the exemplar's colours (rows of `axes`): the
-/// eigenvectors of their covariance, each signed so that its largest
+/// The principal axes of the exemplar's colours: the eigenvectors of their
+/// covariance, the largest variance first, each signed so that its largest
 /// component is positive. One channel: the channel itself.
 std::array<std::array<double, 3>, 3> principal_axes(const Exemplar& exemplar) {
   std::array<std::array<double, 3>, 3> axes{};
@@ -123,7 +123,7 @@ std::array<std::array<double, 3>, 3> principal_axes(const Exemplar& exemplar) {
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance / static_cast<double>(n));
   for (int k = 0; k < 3; ++k) {
-    Eigen::Vector3d axis = solver.eigenvectors().col(2 - k);  // the largest variance first
+    Eigen::Vector3d axis = solver.eigenvectors().col(2 - k);
     Eigen::Index largest;
     axis.cwiseAbs().maxCoeff(&largest);
     if (axis[largest] < 0.0) axis = -axis;
@@ -132,33 +132,42 @@ std::array<std::array<double, 3>, 3> principal_axes(const Exemplar& exemplar) {
   return axes;
 }
 
-/// Ranks → normal scores: `value[order[i]]` ascending in i; texels of equal
-/// value take the score of their mean rank.
-void gaussianise(const std::vector<double>& value, const std::vector<std::size_t>& order, Image& out, int channel) {
-  const std::size_t n = order.size();
-  for (std::size_t first = 0; first < n;) {
+/// The empirical CDF of `values` as (distinct value, quantile of its mean
+/// rank) pairs, ascending in both.
+std::vector<std::pair<double, double>> cdf_knots(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const auto n = static_cast<double>(values.size());
+  std::vector<std::pair<double, double>> knots;
+  for (std::size_t first = 0; first < values.size();) {
     std::size_t last = first;
-    while (last + 1 < n && value[order[last + 1]] == value[order[first]]) ++last;
-    const double rank = 0.5 * static_cast<double>(first + last);
-    const auto score = static_cast<float>(normal_quantile((rank + 0.5) / static_cast<double>(n)));
-    for (std::size_t i = first; i <= last; ++i) out.pixel(order[i])[channel] = score;
+    while (last + 1 < values.size() && values[last + 1] == values[first]) ++last;
+    knots.emplace_back(values[first], (0.5 * static_cast<double>(first + last) + 0.5) / n);
     first = last + 1;
   }
+  return knots;
 }
 
-/// The inverse CDF of one axis, tabulated over G ∈ [−kRange, kRange].
-std::vector<float> inverse_table(const std::vector<double>& value, const std::vector<std::size_t>& order) {
-  const std::size_t n = order.size();
-  std::vector<float> table(kInverseTable);
-  for (int j = 0; j < kInverseTable; ++j) {
-    const double g = GaussianExemplar::kRange * (2.0 * j / (kInverseTable - 1) - 1.0);
-    const double at = std::clamp(normal_cdf(g) * static_cast<double>(n) - 0.5, 0.0, static_cast<double>(n - 1));
-    const auto below = static_cast<std::size_t>(at);
-    const std::size_t above = std::min(below + 1, n - 1);
-    const double t = at - static_cast<double>(below);
-    table[j] = static_cast<float>((1.0 - t) * value[order[below]] + t * value[order[above]]);
-  }
-  return table;
+/// The piecewise-linear function through `knots` (x ascending) at x,
+/// clamped to its end values; `flip` reads the knots as (y, x).
+double through(const std::vector<std::pair<double, double>>& knots, double x, bool flip) {
+  const auto key = [flip](const std::pair<double, double>& k) { return flip ? k.second : k.first; };
+  const auto value = [flip](const std::pair<double, double>& k) { return flip ? k.first : k.second; };
+  if (!(x > key(knots.front()))) return value(knots.front());
+  if (!(x < key(knots.back()))) return value(knots.back());
+  const auto above = std::upper_bound(knots.begin(), knots.end(), x,
+                                      [&](double v, const std::pair<double, double>& k) { return v < key(k); });
+  const auto below = above - 1;
+  const double t = (x - key(*below)) / (key(*above) - key(*below));
+  return value(*below) + t * (value(*above) - value(*below));
+}
+
+/// Linear lookup of a table spread evenly over [low, high], clamped.
+double lookup(const std::vector<float>& table, double low, double high, double x) {
+  const double last = static_cast<double>(table.size() - 1);
+  const double at = high > low ? std::clamp((x - low) / (high - low) * last, 0.0, last) : 0.0;
+  const std::size_t below = std::min(static_cast<std::size_t>(at), table.size() - 2);
+  const double t = at - static_cast<double>(below);
+  return (1.0 - t) * table[below] + t * table[below + 1];
 }
 
 }  // namespace
@@ -167,36 +176,43 @@ GaussianExemplar::GaussianExemplar(const Exemplar& exemplar) : channels_(exempla
   const Image& image = exemplar.image();
   const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
   for (int c = 0; c < channels_; ++c) mean_[c] = exemplar.mean()[c];
-  axes_ = principal_axes(exemplar);
-  Image gaussian = Image::blank(image.width, image.height, channels_);
-  std::vector<double> value(n);
-  std::vector<std::size_t> order(n);
+  const std::array<std::array<double, 3>, 3> directions = principal_axes(exemplar);
+  std::vector<double> values(n);
   for (int k = 0; k < channels_; ++k) {
+    Axis& axis = axes_[k];
+    axis.direction = directions[k];
     for (std::size_t i = 0; i < n; ++i) {
       double v = 0.0;
-      for (int c = 0; c < channels_; ++c) v += axes_[k][c] * (image.pixel(i)[c] - mean_[c]);
-      value[i] = v;
+      for (int c = 0; c < channels_; ++c) v += axis.direction[c] * (image.pixel(i)[c] - mean_[c]);
+      values[i] = v;
     }
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return value[a] < value[b] || (value[a] == value[b] && a < b); });
-    gaussianise(value, order, gaussian, k);
-    inverse_[k] = inverse_table(value, order);
+    const std::vector<std::pair<double, double>> knots = cdf_knots(values);
+    axis.low = knots.front().first, axis.high = knots.back().first;
+    axis.forward.resize(kTable), axis.inverse.resize(kTable);
+    for (int j = 0; j < kTable; ++j) {
+      const double x = axis.low + (axis.high - axis.low) * j / (kTable - 1);
+      axis.forward[j] = static_cast<float>(normal_quantile(through(knots, x, false)));
+      const double g = kRange * (2.0 * j / (kTable - 1) - 1.0);
+      axis.inverse[j] = static_cast<float>(through(knots, normal_cdf(g), true));
+    }
   }
-  image_ = std::make_unique<Exemplar>(std::move(gaussian));
+}
+
+void GaussianExemplar::to_gaussian(const float* colour, double* g) const {
+  for (int k = 0; k < channels_; ++k) {
+    const Axis& axis = axes_[k];
+    double v = 0.0;
+    for (int c = 0; c < channels_; ++c) v += axis.direction[c] * (colour[c] - mean_[c]);
+    g[k] = lookup(axis.forward, axis.low, axis.high, v);
+  }
 }
 
 void GaussianExemplar::to_colour(const double* g, float* out) const {
   std::array<double, 3> along{};
-  for (int k = 0; k < channels_; ++k) {
-    const double at = std::clamp((g[k] / kRange + 1.0) * 0.5 * (kInverseTable - 1), 0.0, kInverseTable - 1.0);
-    const int below = std::min(static_cast<int>(at), kInverseTable - 2);
-    const double t = at - below;
-    along[k] = (1.0 - t) * inverse_[k][below] + t * inverse_[k][below + 1];
-  }
+  for (int k = 0; k < channels_; ++k) along[k] = lookup(axes_[k].inverse, -kRange, kRange, g[k]);
   for (int c = 0; c < channels_; ++c) {
     double v = mean_[c];
-    for (int k = 0; k < channels_; ++k) v += along[k] * axes_[k][c];
+    for (int k = 0; k < channels_; ++k) v += along[k] * axes_[k].direction[c];
     out[c] = static_cast<float>(v);
   }
 }

@@ -11,8 +11,8 @@
 ///    Neyret 2018 ("High-Performance By-Example Noise using a
 ///    Histogram-Preserving Blending Operator", HPG; Burley 2019). The
 ///    exemplar's colours are decorrelated (PCA) and each decorrelated channel
-///    is mapped through its CDF to a standard normal variable G, once per
-///    job (GaussianExemplar, exemplar.h). Samples blend there with
+///    is mapped through its CDF to a standard normal variable G (tables made
+///    once per job: GaussianExemplar, exemplar.h). Samples blend there with
 ///    variance-preserving weights, G' = Σ w G / √Σw², which keeps G'
 ///    standard normal, and G' maps back through the inverse CDF: every texel
 ///    takes a value the exemplar has, with the exemplar's histogram, and no

@@ -1,8 +1,8 @@
 /// @file exemplar.h
 /// @brief The exemplar texture as the synthesis samples it: linear float,
 /// bilinear, tiled (wrapping) in both directions, with its mean R̂ (Eq. 7);
-/// and its Gaussian form, which the histogram-preserving blend samples
-/// (GaussianExemplar, blend.h).
+/// and the Gaussian form of its colours, in which the histogram-preserving
+/// blend works (GaussianExemplar, blend.h).
 #pragma once
 
 #include <array>
@@ -47,31 +47,39 @@ class Exemplar {
   std::array<float, 3> stddev_{0, 0, 0};
 };
 
-/// The exemplar in the space where the histogram-preserving blend works
-/// (Heitz and Neyret 2018, Sec. 3.2 and 4): colours minus their mean, in the
-/// principal axes of their covariance (one channel: as they are), each axis
-/// mapped through its empirical CDF to a standard normal variable. Texels of
-/// equal value share their mean rank, so an 8-bit exemplar's flat areas
-/// stay flat. Built once per exemplar (Exemplar::gaussian).
+/// The space where the histogram-preserving blend works (Heitz and Neyret
+/// 2018, Sec. 3.2 and 4): colours minus the exemplar's mean, in the
+/// principal axes of its colours' covariance (one channel: as it is), each
+/// axis mapped through the exemplar's CDF along it to a standard normal
+/// variable G. The CDF is the empirical one, piecewise linear between the
+/// axis's distinct values at their mean ranks, so that equal texels share a
+/// value and the map is invertible; both directions are tables over the
+/// axis's range and over G ∈ [−kRange, kRange], linear in between. A sample
+/// is mapped after its bilinear lookup, so one patch alone shows exactly
+/// what the other blends show. Built once per exemplar (Exemplar::gaussian).
 class GaussianExemplar {
  public:
   explicit GaussianExemplar(const Exemplar& exemplar);
 
-  /// The Gaussianised exemplar, sampled as the exemplar is (tiled, bilinear).
-  const Exemplar& image() const { return *image_; }
-  /// A colour from a point G of the Gaussian space: per axis the inverse
-  /// CDF (a table over G ∈ [−kRange, kRange], linear in between; beyond, the
-  /// axis's extreme value), then back to colour. Writes `channels` values.
+  /// G of a colour (`channels` values of the exemplar's channels).
+  void to_gaussian(const float* colour, double* g) const;
+  /// The colour of G: the inverse of to_gaussian up to the tables'
+  /// resolution (values beyond the axis's range clamp to its ends).
   void to_colour(const double* g, float* out) const;
 
   static constexpr double kRange = 6.0;
 
  private:
-  std::unique_ptr<Exemplar> image_;
+  /// One principal axis: its direction and the two tables.
+  struct Axis {
+    std::array<double, 3> direction{};
+    double low = 0.0, high = 0.0;  ///< the range of the values along it
+    std::vector<float> forward;    ///< G at values spread evenly over [low, high]
+    std::vector<float> inverse;    ///< value at G spread evenly over [−kRange, kRange]
+  };
   int channels_ = 3;
   std::array<double, 3> mean_{};
-  std::array<std::array<double, 3>, 3> axes_{};  ///< axes_[k]: the k-th principal axis (unit)
-  std::array<std::vector<float>, 3> inverse_;    ///< per axis: value at G on a uniform grid
+  std::array<Axis, 3> axes_;
 };
 
 }  // namespace fluidtex
