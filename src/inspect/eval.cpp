@@ -9,6 +9,7 @@
 
 #include "fluidtex/geometry/distortion.h"
 #include "fluidtex/geometry/surface.h"
+#include "fluidtex/inspect/appearance_metrics.h"
 #include "fluidtex/inspect/eval_report.h"
 #include "fluidtex/inspect/motion_metrics.h"
 #include "fluidtex/inspect/patch_history.h"
@@ -84,22 +85,17 @@ void patch_figures(const Tracker& tracker, const JobOptions& job, const Exemplar
   row.emplace_back("quality_below_half", vertices ? static_cast<double>(poor) / vertices : std::nan(""));
 }
 
-/// Contrast and spectrum of the atlas the run wrote (of UDIM tiles, 1001),
-/// against the exemplar at the atlas's texel density, and the exemplar's
-/// size on the surface asked for and measured.
-void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved, const SynthesisJobOptions& so,
-                     const Exemplar& exemplar, MetricRow& row) {
-  const Image& atlas = frame.atlas.first();
-  const std::vector<char> mask = chart_mask(frame.mesh, atlas.width);
-  const std::vector<double> contrast = contrast_ratio(atlas, mask, exemplar);
-  const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
-  for (std::size_t c = 0; c < contrast.size(); ++c)
-    row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
-  const double tile = resolved.exemplar_tile_size(so.exemplar_size);
-  const double density = texel_density(frame.mesh, atlas.width);
-  row.emplace_back("texel_density", density);
-  const double scale =
-      exemplar.image().width * resolved.uv_scale / (tile * density);  // exemplar texels per atlas texel
+/// Exemplar texels per atlas texel where the exemplar lands on the surface
+/// (its tile's span at the atlas's texel density `density`).
+double exemplar_scale(const TrackingOptions& resolved, const SynthesisJobOptions& so, const Exemplar& exemplar,
+                      double density) {
+  return exemplar.image().width * resolved.uv_scale / (resolved.exemplar_tile_size(so.exemplar_size) * density);
+}
+
+/// The radial spectrum distance of up to 64 atlas windows inside the charts
+/// (64², or 32² or 16² where none fits) to 32 exemplar crops at `scale`.
+void spectrum_figures(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar, double scale,
+                      MetricRow& row) {
   double spectrum = std::nan("");
   for (int n : {64, 32, 16}) {
     // 64 windows a frame and 32 exemplar crops: with 8 of each a frame's
@@ -115,11 +111,60 @@ void texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved
     break;
   }
   row.emplace_back("spectrum_distance", spectrum);
+}
+
+/// The plane eval reads directions on the surface in: the flow map's rest
+/// projection (its u and v as world directions), where the flow map shows
+/// the exemplar unturned.
+DirectionFrame direction_frame(const FlowMapOptions& flowmap) {
+  const Vec2 x = rest_uv(Vec3::UnitX(), flowmap.axis, 1.0), y = rest_uv(Vec3::UnitY(), flowmap.axis, 1.0),
+             z = rest_uv(Vec3::UnitZ(), flowmap.axis, 1.0);
+  return {Vec3(x.x(), y.x(), z.x()), Vec3(x.y(), y.y(), z.y())};
+}
+
+/// How much the atlas still looks like its exemplar at `scale`
+/// (appearance_metrics.h): orientation and nearest-window energy on the
+/// surface in `directions`, and the colour distribution.
+void appearance_figures(const Image& atlas, const UVMesh& mesh, const std::vector<char>& mask, const Exemplar& exemplar,
+                        double scale, const DirectionFrame& directions, MetricRow& row) {
+  const OrientationFigures o = orientation_figures(atlas, mesh, mask, exemplar, scale, directions);
+  row.emplace_back("orientation_coherence", o.coherence);
+  row.emplace_back("orientation_coherence_exemplar", o.exemplar_coherence);
+  row.emplace_back("orientation_coherence_ratio", o.coherence_ratio);
+  row.emplace_back("orientation_histogram_distance", o.histogram_distance);
+  row.emplace_back("orientation_histogram_distance_aligned", o.aligned_histogram_distance);
+  row.emplace_back("orientation_angle_deg", o.angle_deg);
+  row.emplace_back("orientation_window", o.window);
+  row.emplace_back("window_energy_ratio", window_energy_ratio(atlas, mesh, mask, exemplar, scale, directions));
+  row.emplace_back("histogram_distance", value_histogram_distance(atlas, mask, exemplar, scale));
+}
+
+/// Contrast, spectrum and appearance of the atlas the run wrote (of UDIM
+/// tiles, 1001), against the exemplar at the atlas's texel density, and the
+/// exemplar's size on the surface asked for and measured. Returns the scale
+/// it measured at (exemplar texels per atlas texel; NaN without uv area).
+double texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved, const JobOptions& job,
+                       const Exemplar& exemplar, MetricRow& row) {
+  const SynthesisJobOptions& so = job.synthesis;
+  const Image& atlas = frame.atlas.first();
+  const std::vector<char> mask = chart_mask(frame.mesh, atlas.width);
+  const double density = texel_density(frame.mesh, atlas.width);
+  double scale = exemplar_scale(resolved, so, exemplar, density);     // exemplar texels per atlas texel
+  if (!std::isfinite(scale) || !(scale > 0.0)) scale = std::nan("");  // no uv area
+  const std::vector<double> contrast = std::isnan(scale) ? std::vector<double>(exemplar.channels(), std::nan(""))
+                                                         : contrast_ratio(atlas, mask, exemplar, scale);
+  const char* channel[] = {"contrast_r", "contrast_g", "contrast_b"};
+  for (std::size_t c = 0; c < contrast.size(); ++c)
+    row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
+  row.emplace_back("texel_density", density);
+  spectrum_figures(atlas, mask, exemplar, scale, row);
+  appearance_figures(atlas, frame.mesh, mask, exemplar, scale, direction_frame(job.flowmap), row);
   // The exemplar's size on the surface: what the job asked for, and what
   // the atlas shows through the UV mesh.
   const double span = exemplar_span(resolved, so);
   row.emplace_back("exemplar_size", span);
   row.emplace_back("exemplar_size_measured", measured_exemplar_span(atlas, frame.mesh, exemplar, span));
+  return scale;
 }
 
 /// Texture–flow agreement of two frames measured: warping error and optical
@@ -152,7 +197,8 @@ MetricRow summarize(const std::vector<MetricRow>& rows, const std::vector<double
   std::vector<std::string> keys;
   for (const MetricRow& r : rows) {
     for (const auto& [k, v] : r) {
-      if (k != "frame" && k != "spectrum_crop" && std::find(keys.begin(), keys.end(), k) == keys.end())
+      if (k != "frame" && k != "spectrum_crop" && k != "orientation_window" &&
+          std::find(keys.begin(), keys.end(), k) == keys.end())
         keys.push_back(k);
     }
   }
@@ -178,6 +224,54 @@ std::string write_render(const TexturedFrame& outputs, int frame, const std::str
   std::string png = FramePattern(pattern).path(frame);
   write_image(png, render_textured(outputs.mesh, outputs.atlas, render), ImageWriteOptions{});
   return png;
+}
+
+/// In the report's gallery: the exemplar at the surface's `scale` (once,
+/// with the first frame) and a view of `outputs`' atlas the same size as
+/// the surface shows it in `directions` (surface_view): the first window of
+/// 256² (or 128² .. 32² where none fits) whose turned square lies inside its
+/// charts, to DIR/exemplar_at_scale.png and DIR/gallery.####.png.
+void add_gallery(const TexturedFrame& outputs, int frame, double scale, const Exemplar& exemplar,
+                 const DirectionFrame& directions, const std::string& dir, EvalReport& report) {
+  const Image& atlas = outputs.atlas.first();
+  const std::vector<char> mask = chart_mask(outputs.mesh, atlas.width);
+  for (int n = 256; n >= 32; n /= 2) {
+    const int reach = static_cast<int>(std::ceil(n * M_SQRT2));  // the turned window's
+    const auto windows = chart_windows(mask, atlas.width, reach, 1);
+    if (windows.empty()) continue;
+    if (report.gallery.empty() && std::isfinite(scale)) {
+      const std::string png = dir + "/exemplar_at_scale.png";
+      write_image(png, exemplar_crop(exemplar, 0.0, 0.0, scale, n));
+      char caption[96];
+      std::snprintf(caption, sizeof caption, "the exemplar at the surface's scale (%.3g exemplar texels per texel)",
+                    scale);
+      report.gallery.emplace_back(png, caption);
+    }
+    const Vec2 centre(windows.front().first + 0.5 * reach, windows.front().second + 0.5 * reach);
+    const auto map = window_frames(outputs.mesh, atlas.width, windows, reach, directions).front();
+    const std::string png = FramePattern(dir + "/gallery.####.png").path(frame);
+    write_image(png, surface_view(atlas, centre, map, n));
+    report.gallery.emplace_back(png, "frame " + std::to_string(frame) +
+                                         ", as the surface shows it around atlas texel (" +
+                                         std::to_string(static_cast<int>(centre.x())) + ", " +
+                                         std::to_string(static_cast<int>(centre.y())) + ")");
+    return;
+  }
+}
+
+/// The report's images of the `i`-th of `count` frames: a preview render
+/// every count / options.report_images frames (at most
+/// options.report_images), and the gallery's crops of the first, middle and
+/// last frames.
+void add_report_images(const TexturedFrame& outputs, int frame, std::size_t i, std::size_t count, double scale,
+                       const Exemplar& exemplar, const JobOptions& job, const EvalOptions& options,
+                       const std::string& dir, EvalReport& report) {
+  const std::size_t every =
+      std::max<std::size_t>(1, count / static_cast<std::size_t>(std::max(1, options.report_images)));
+  if (i % every == 0 && static_cast<int>(report.images.size()) < options.report_images)
+    report.images.push_back(write_render(outputs, frame, dir + "/preview.####.png", options.render));
+  if (i == 0 || i == count / 2 || i + 1 == count)
+    add_gallery(outputs, frame, scale, exemplar, direction_frame(job.flowmap), dir, report);
 }
 
 /// The worst frame of each range where a figure is bad (at most
@@ -272,7 +366,6 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
   ChangeHistory change;
   std::optional<TexturedFrame> previous;
   std::shared_ptr<const FrameMesh> previous_mesh;
-  const int image_every = std::max<int>(1, static_cast<int>(sequence.size()) / std::max(1, options.report_images));
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const int frame = sequence.frames()[i];
     reporter.progress(i, sequence.size(), "eval");
@@ -290,13 +383,12 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
       patch_figures(tracker, job, exemplar, row);
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
-    texture_figures(current, *resolved, job.synthesis, exemplar, row);
+    const double scale = texture_figures(current, *resolved, job, exemplar, row);
     if (previous) {
       const LiquidMotion motion = read.motion_between(sequence.frames()[i - 1], frame);
       flow_figures(*previous_mesh, *previous, current, motion, exemplar, options, frame, row);
     }
-    if (static_cast<int>(i) % image_every == 0 && static_cast<int>(report.images.size()) < options.report_images)
-      report.images.push_back(write_render(current, frame, dir + "/preview.####.png", options.render));
+    add_report_images(current, frame, i, sequence.size(), scale, exemplar, job, options, dir, report);
     report.rows.push_back(std::move(row));
     previous.emplace(std::move(current));
     previous_mesh = mesh;

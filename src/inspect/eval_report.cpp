@@ -142,6 +142,15 @@ const std::vector<Chart>& report_charts() {
       {"Optical flow angular error (deg)", {"flow_angular_deg"}, {"angular"}},
       {"Contrast σ_out / σ_exemplar", {"contrast_r", "contrast_g", "contrast_b", "contrast"}, {"R", "G", "B", "grey"}},
       {"Spectrum distance to the exemplar", {"spectrum_distance"}, {"log-spectrum RMS"}},
+      {"Orientation: structure-tensor coherence",
+       {"orientation_coherence", "orientation_coherence_exemplar", "orientation_coherence_ratio"},
+       {"atlas", "exemplar", "ratio"}},
+      {"Orientation against the exemplar",
+       {"orientation_histogram_distance", "orientation_histogram_distance_aligned"},
+       {"directions as drawn", "up to a turn"}},
+      {"Dominant direction against the exemplar's (deg)", {"orientation_angle_deg"}, {"angle"}},
+      {"Nearest-window energy over the exemplar's own", {"window_energy_ratio"}, {"ratio"}},
+      {"Colour histogram distance (exemplar σ)", {"histogram_distance"}, {"Wasserstein"}},
       {"Exemplar tile on the surface (scene units)",
        {"exemplar_size", "exemplar_size_measured"},
        {"the job's", "measured on the atlas"}},
@@ -231,6 +240,15 @@ std::string html_report(const EvalReport& report) {
   html << "</table>" << html_retire_table(report.retired);
   html << "<h2>Per frame</h2>";
   for (const auto& [title, ks, labels] : report_charts()) html << svg_chart(title, report.rows, ks, labels) << "\n";
+  if (!report.gallery.empty()) {
+    html << "<h2>Texture against the exemplar</h2><p>The exemplar resampled where it lands on the surface, beside "
+            "views of the atlas of the same size as the surface shows them (turned back along the flow map's "
+            "projection axes), of the first, middle and last frames.</p>";
+    for (const auto& [png, caption] : report.gallery) {
+      html << "<figure><img src='" << png_data_uri(png) << "'><figcaption>" << html_escape(caption)
+           << "</figcaption></figure>";
+    }
+  }
   html << "<h2>Frames</h2>";
   for (const std::string& png : report.images) {
     html << "<figure><img src='" << png_data_uri(png) << "'><figcaption>"

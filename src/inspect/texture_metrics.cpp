@@ -40,7 +40,8 @@ std::vector<char> chart_mask(const UVMesh& mesh, int size, const Vec2& origin) {
   return mask;
 }
 
-std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar) {
+std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar,
+                                   double scale) {
   const int nc = std::min(image.channels, exemplar.channels());
   std::vector<double> sum(nc, 0.0), sum2(nc, 0.0);
   std::size_t n = 0;
@@ -54,10 +55,11 @@ std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& 
   }
   std::vector<double> ratio(nc, 0.0);
   if (n < 2) return ratio;
+  const std::vector<double> reference = resampled_stddev(exemplar, scale);
   for (int c = 0; c < nc; ++c) {
     const double mean = sum[c] / n;
     const double sd = std::sqrt(std::max(0.0, sum2[c] / n - mean * mean));
-    ratio[c] = exemplar.stddev()[c] > 0.0f ? sd / exemplar.stddev()[c] : 0.0;
+    ratio[c] = reference[c] > 0.0 ? sd / reference[c] : 0.0;
   }
   return ratio;
 }
@@ -170,6 +172,37 @@ double texel_density(const UVMesh& mesh, int size) {
     a2 += triangle_area(mesh.uvs, mesh.uv_triangles[f]) * size * size;
   }
   return a3 > 0.0 ? std::sqrt(a2 / a3) : 0.0;
+}
+
+std::vector<Image> exemplar_tiles(const Exemplar& exemplar, double scale, int crops) {
+  FLUIDTEX_CHECK_GT(scale, 0.0);
+  const int w = exemplar.image().width, h = exemplar.image().height;
+  const int side = static_cast<int>(std::clamp(std::ceil(std::max(w, h) / scale), 64.0, 512.0));
+  std::vector<Image> tiles;
+  tiles.reserve(static_cast<std::size_t>(std::max(0, crops)));
+  for (int k = 0; k < crops; ++k) tiles.push_back(exemplar_crop(exemplar, w * (0.37 * k), h * (0.61 * k), scale, side));
+  return tiles;
+}
+
+std::vector<double> resampled_stddev(const Exemplar& exemplar, double scale) {
+  const int nc = exemplar.channels();
+  std::vector<double> sum(nc, 0.0), sum2(nc, 0.0);
+  std::size_t n = 0;
+  for (const Image& tile : exemplar_tiles(exemplar, scale)) {
+    for (std::size_t i = 0; i < tile.pixels.size(); i += nc) {
+      for (int c = 0; c < nc; ++c) {
+        const double v = tile.pixels[i + c];
+        sum[c] += v, sum2[c] += v * v;
+      }
+    }
+    n += tile.pixels.size() / nc;
+  }
+  std::vector<double> sd(nc, 0.0);
+  for (int c = 0; c < nc; ++c) {
+    const double mean = sum[c] / static_cast<double>(n);
+    sd[c] = std::sqrt(std::max(0.0, sum2[c] / static_cast<double>(n) - mean * mean));
+  }
+  return sd;
 }
 
 std::vector<double> exemplar_spectrum(const Exemplar& exemplar, double scale, int n, int crops) {

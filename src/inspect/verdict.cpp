@@ -52,6 +52,20 @@ double flow(const MetricRow& r) {
   return speed >= 1.0 ? metric_value(r, "flow_slow_endpoint_px") / speed : std::numeric_limits<double>::quiet_NaN();
 }
 
+/// An exemplar's windows of one tile are directional from this coherence
+/// of their structure tensor on (wood 0.5, bricks and lit stones 0.2 to
+/// 0.35; noise, spots and bubbles 0.02 to 0.09): below it the coherence
+/// ratio is a ratio of noise and is not judged.
+constexpr double kDirectionalCoherence = 0.1;
+
+/// A frame's directionality change |coherence ratio − 1|, on exemplars
+/// with a direction.
+double orientation_change(const MetricRow& r) {
+  if (!(metric_value(r, "orientation_coherence_exemplar") >= kDirectionalCoherence))
+    return std::numeric_limits<double>::quiet_NaN();
+  return std::abs(metric_value(r, "orientation_coherence_ratio") - 1.0);
+}
+
 using T = EvalThresholds;
 const Measure kMeasures[] = {
     {"coverage", "uncovered surface", "share of the surface area, largest frame", "the texture leaves surface bare",
@@ -69,6 +83,22 @@ const Measure kMeasures[] = {
      "the texture is washed out, or harsher than its exemplar",
      [](const MetricRow& r) { return std::abs(metric_value(r, "contrast_g") - 1.0); }, Aggregate::MeanFromOne, false,
      &T::contrast_good, &T::contrast_bad, "contrast_g"},
+    {"orientation", "directionality change",
+     "|structure-tensor coherence of the atlas over the exemplar's − 1|, exemplars with a direction (coherence ≥ "
+     "0.1)",
+     "patches show the exemplar's direction at different angles: a pattern reads as a heap", orientation_change,
+     Aggregate::Mean, false, &T::orientation_good, &T::orientation_bad},
+    {"structure", "window energy",
+     "distance of atlas windows to the nearest exemplar window at any turn, over the exemplar's own (1 = as the "
+     "exemplar)",
+     "the texture shows structure its exemplar does not have (overlaid copies, seams, smears)",
+     [](const MetricRow& r) { return metric_value(r, "window_energy_ratio"); }, Aggregate::Mean, true,
+     &T::window_energy_good, &T::window_energy_bad},
+    {"colours", "colour histogram distance",
+     "Wasserstein distance of the chart texels' values to the exemplar's at the atlas's scale, in exemplar σ",
+     "the colours or their spread differ from the exemplar's",
+     [](const MetricRow& r) { return metric_value(r, "histogram_distance"); }, Aggregate::Mean, true,
+     &T::histogram_good, &T::histogram_bad},
     {"churn", "churn", "births per live patch a frame", "patches are born and fade all the time (popping)",
      [](const MetricRow& r) { return metric_value(r, "birth_rate"); }, Aggregate::MeanAfterFirst, false, &T::churn_good,
      &T::churn_bad},

@@ -41,12 +41,19 @@ TEST(Eval, CommandWritesMetricsAndReportOnAGeneratedScene) {
   EXPECT_GT(value("ghosting_mean"), 1.0);
   EXPECT_LT(value("flow_endpoint_px"), 0.5 * value("flow_speed_px"));
   EXPECT_NEAR(value("contrast_g"), 1.0, 0.2);
+  // As the exemplar looks: as directional, windows as close to it as its
+  // own, the same colours.
+  EXPECT_NEAR(value("orientation_coherence_ratio"), 1.0, 0.2);
+  EXPECT_LT(value("window_energy_ratio"), 1.5);
+  EXPECT_LT(value("histogram_distance"), 0.1);
   // The rigid rotation recuts nothing; the count is there, per frame.
   const std::string metrics = test::read_file(out + "/eval/metrics.jsonl");
   EXPECT_NE(metrics.find("\"recuts\":0"), std::string::npos);
   const std::string html = test::read_file(out + "/eval/report.html");
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+  EXPECT_NE(html.find("Texture against the exemplar"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(out + "/eval/exemplar_at_scale.png"));
   // Not a run's folder: a clear error.
   EXPECT_EQ(test::run_fluidtex("eval -i '" + input + "' -o " + scene + " -q"), 2);
 }

@@ -40,13 +40,28 @@ TEST(TextureMetrics, ContrastRatioIsOneForASinglePatch) {
   const SynthesisResult r = synthesize(scene.surface, scene.atlas, scene.map, scene.patches, exemplar, so);
   std::vector<char> mask(scene.map.face.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = scene.map.face[i] >= 0;
-  for (double ratio : contrast_ratio(r.color, mask, exemplar)) EXPECT_NEAR(ratio, 1.0, 0.03);
+  for (double ratio : contrast_ratio(r.color, mask, exemplar, 1.0)) EXPECT_NEAR(ratio, 1.0, 0.03);
   // Linear blending of four uncorrelated patches loses contrast.
   test::OnePatch four(256);
   for (int k = 0; k < 4; ++k) four.add(Vec2(0.13 * k + 0.05, 0.29 * k + 0.1), 1.0, 0.9 * k);
   so.blend = Blend::Linear;
   const SynthesisResult lin = synthesize(four.surface, four.atlas, four.map, four.patches, exemplar, so);
-  for (double ratio : contrast_ratio(lin.color, mask, exemplar)) EXPECT_LT(ratio, 0.75);
+  for (double ratio : contrast_ratio(lin.color, mask, exemplar, 1.0)) EXPECT_LT(ratio, 0.75);
+}
+
+TEST(TextureMetrics, ContrastIsMeasuredAgainstTheExemplarAtTheAtlasScale) {
+  // The exemplar magnified 4× (bilinear) is smoother than the exemplar:
+  // against its own σ it looks washed out, against its σ at that scale not.
+  const Exemplar exemplar(make_exemplar("gravel", 64, 8));
+  const Image magnified = exemplar_crop(exemplar, 3.3, 1.7, 0.25, 256);
+  const std::vector<char> mask(256 * 256, 1);
+  const std::vector<double> at_scale = contrast_ratio(magnified, mask, exemplar, 0.25);
+  const std::vector<double> sigma = resampled_stddev(exemplar, 0.25);
+  ASSERT_EQ(at_scale.size(), 3u);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(at_scale[c], 1.0, 0.05) << c;
+    EXPECT_LT(sigma[c], 0.95 * exemplar.stddev()[c]) << c;
+  }
 }
 
 TEST(TextureMetrics, SpectrumDistanceIsZeroForTheExemplarItself) {

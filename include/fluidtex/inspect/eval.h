@@ -3,12 +3,15 @@
 /// from its outputs (atlas + UV mesh), its patch states and the input
 /// sequence: coverage, ghosting, patch life, distortion, texture–flow
 /// agreement (warping error and optical flow against the fluid velocity),
-/// contrast and spectrum. Writes OUT/eval/metrics.jsonl, summary.json, the
-/// verdict (verdict.json, verdict.h) and a self-contained report.html.
+/// contrast, spectrum and appearance against the exemplar. Writes
+/// OUT/eval/metrics.jsonl, summary.json, the verdict (verdict.json,
+/// verdict.h) and a self-contained report.html.
 ///
 /// The figures come from texture_metrics.h (contrast, spectrum),
-/// motion_metrics.h (warping error, optical flow) and patch_history.h
-/// (patch life, surface made and destroyed); eval_report.h draws the page.
+/// appearance_metrics.h (orientation, nearest-window energy, colour
+/// histogram), motion_metrics.h (warping error, optical flow) and
+/// patch_history.h (patch life, surface made and destroyed); eval_report.h
+/// draws the page.
 #pragma once
 
 #include <cstddef>

@@ -1,11 +1,13 @@
 /// @file eval_report.h
 /// @brief `eval`'s self-contained HTML report (OUT/eval/report.html): the
 /// verdict with the worst frames, the summary, why patches leave, one
-/// chart per figure against frame, and preview renders, with every image
+/// chart per figure against frame, the exemplar at the surface's scale
+/// beside crops of the atlas, and preview renders, with every image
 /// inline so that the page can be mailed or attached to a ticket.
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fluidtex/inspect/metric_row.h"
@@ -23,6 +25,9 @@ struct EvalReport {
   Verdict verdict;                        ///< as in verdict.json
   std::vector<std::string> worst_images;  ///< a PNG per verdict range (the first ones), in order
   std::vector<std::string> images;        ///< preview PNGs
+  /// (PNG, caption): the exemplar at the surface's scale, then atlas crops
+  /// of the same size (the first, middle and last frames).
+  std::vector<std::pair<std::string, std::string>> gallery;
 };
 
 /// The report as one HTML page (PNGs read and embedded as data URIs).

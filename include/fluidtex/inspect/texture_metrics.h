@@ -29,9 +29,13 @@ std::vector<std::pair<int, int>> chart_windows(const std::vector<char>& mask, in
 double texel_density(const UVMesh& mesh, int size);
 
 /// σ of each channel of `image` over the texels where `mask` is set,
-/// divided by the exemplar's σ (1 = contrast kept; linear blending of k
-/// uncorrelated patches gives about 1/sqrt(k)).
-std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar);
+/// divided by the σ of the exemplar resampled at `scale` exemplar texels
+/// per image texel (resampled_stddev: the exemplar as it lands on the
+/// surface, so that the bilinear blur of a magnified exemplar is not a loss
+/// of contrast). 1 = contrast kept; linear blending of k uncorrelated
+/// patches gives about 1/sqrt(k).
+std::vector<double> contrast_ratio(const Image& image, const std::vector<char>& mask, const Exemplar& exemplar,
+                                   double scale);
 
 /// Radially averaged log power spectrum (luminance, Hann window, DC left
 /// out) of the n×n crop of `image` at (x0, y0); n a power of two. Bin k
@@ -44,6 +48,19 @@ double spectrum_distance(const std::vector<double>& a, const std::vector<double>
 /// The exemplar resampled (bilinear, tiled) at `scale` exemplar texels per
 /// output texel, an n×n crop starting at exemplar texel (x0, y0).
 Image exemplar_crop(const Exemplar& exemplar, double x0, double y0, double scale, int n);
+
+/// `crops` square crops of the exemplar resampled at `scale` exemplar
+/// texels per output texel (exemplar_crop), each at least one tile wide
+/// (the tile's width at that scale, clamped to 64 .. 512 texels), at fixed
+/// offsets spread over the tile: the texels an atlas shows where the
+/// exemplar lands at that scale, bilinear blur included.
+std::vector<Image> exemplar_tiles(const Exemplar& exemplar, double scale, int crops = 4);
+
+/// σ of each colour channel (Exemplar::channels) of the exemplar resampled
+/// at `scale`, over exemplar_tiles (whose offsets fall between texels: the
+/// σ of bilinear lookups at any phase, below the exemplar's own even at
+/// scale 1 for a texture with detail at the texel).
+std::vector<double> resampled_stddev(const Exemplar& exemplar, double scale);
 
 /// The mean radial log spectrum (n×n) of `crops` crops of the exemplar at
 /// `scale` exemplar texels per output texel, spread over the tile by fixed

@@ -29,6 +29,9 @@ struct EvalThresholds {
   double flow_good = 0.3, flow_bad = 0.6;
   double ghosting_good = 2.5, ghosting_bad = 4.0;
   double contrast_good = 0.1, contrast_bad = 0.25;
+  double orientation_good = 0.2, orientation_bad = 0.35;
+  double window_energy_good = 1.5, window_energy_bad = 2.5;
+  double histogram_good = 0.1, histogram_bad = 0.25;
   double churn_good = 0.05, churn_bad = 0.1;
   double distortion_good = 3.5, distortion_bad = 5.0;
 
@@ -64,6 +67,15 @@ inline constexpr ThresholdOption kThresholdOptions[] = {
     {"contrast-good", "Contrast change |σ ratio − 1| up to which a shot is good", "contrast-bad",
      "Contrast change |σ ratio − 1| above which a shot is bad", at_least(0), &EvalThresholds::contrast_good,
      &EvalThresholds::contrast_bad},
+    {"orientation-good", "Directionality change |coherence ratio − 1| up to which a shot is good", "orientation-bad",
+     "Directionality change |coherence ratio − 1| above which a shot is bad", at_least(0),
+     &EvalThresholds::orientation_good, &EvalThresholds::orientation_bad},
+    {"window-energy-good", "Nearest-window energy ratio up to which a shot is good", "window-energy-bad",
+     "Nearest-window energy ratio above which a shot is bad", at_least(0), &EvalThresholds::window_energy_good,
+     &EvalThresholds::window_energy_bad},
+    {"histogram-good", "Colour histogram distance (exemplar σ) up to which a shot is good", "histogram-bad",
+     "Colour histogram distance (exemplar σ) above which a shot is bad", at_least(0), &EvalThresholds::histogram_good,
+     &EvalThresholds::histogram_bad},
     {"churn-good", "Births per live patch a frame up to which a shot is good", "churn-bad",
      "Births per live patch a frame above which a shot is bad", at_least(0), &EvalThresholds::churn_good,
      &EvalThresholds::churn_bad},
@@ -86,7 +98,8 @@ std::vector<OptionRef> option_table(EvalThresholds& t);
 
 /// One headline figure of a shot.
 struct VerdictFigure {
-  std::string key;      ///< verdict.json's name: coverage, warping, flow, ghosting, contrast, churn, distortion
+  std::string key;      ///< verdict.json's name: coverage, warping, flow, ghosting, contrast, orientation,
+                        ///< structure, colours, churn, distortion
   std::string name;     ///< for people: "warping ratio"
   std::string unit;     ///< "share of the surface area", "× a still texture's change", ...
   std::string meaning;  ///< what a bad value looks like on screen
