@@ -10,8 +10,10 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include "fluidtex/geometry/point_index.h"
 #include "fluidtex/inspect/texture_metrics.h"
 #include "fluidtex/util/check.h"
 #include "fluidtex/util/random.h"
@@ -553,6 +555,312 @@ double value_histogram_distance(const Image& atlas, const std::vector<char>& mas
     ++channels;
   }
   return channels ? sum / channels : kNaN;
+}
+
+// ---------------------------------------------------------------------------
+// The patch layout: the autocorrelation at the patch spacing.
+
+std::vector<int> nearest_others(const std::vector<Vec3>& points) {
+  std::vector<int> nearest(points.size(), -1);
+  if (points.size() < 2) return nearest;
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : points) box.extend(p);
+  const double diagonal = box.diagonal().norm();
+  const PointIndex index(points);
+  // A first radius about the spacing of as many points spread over the
+  // box, doubled until another point is in reach (every one is once the
+  // radius passes the diagonal).
+  const double start = diagonal > 0.0 ? diagonal / std::sqrt(static_cast<double>(points.size())) : 1.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double best = std::numeric_limits<double>::infinity();
+    for (double r = start; nearest[i] < 0; r *= 2.0) {
+      for (int j : index.within(points[i], r)) {  // ascending: of two as near, the lower index
+        const double distance = (points[j] - points[i]).norm();
+        if (static_cast<std::size_t>(j) != i && distance < best) best = distance, nearest[i] = j;
+      }
+    }
+  }
+  return nearest;
+}
+
+double mean_nearest_distance(const std::vector<Vec3>& points) {
+  if (points.size() < 2) return kNaN;
+  const std::vector<int> nearest = nearest_others(points);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) sum += (points[nearest[i]] - points[i]).norm();
+  return sum / static_cast<double>(points.size());
+}
+
+namespace {
+
+/// The texels [x0, x0 + n) × [y0, y0 + n) of a one-channel image.
+struct LumaWindow {
+  const Image* luma;
+  int x0, y0;
+};
+
+/// μ and σ² of the windows' texels on the grid of pair origins (every
+/// `stride`-th texel).
+std::pair<double, double> window_moments(const std::vector<LumaWindow>& windows, int n, int stride) {
+  double sum = 0.0, sum2 = 0.0;
+  std::size_t count = 0;
+  for (const LumaWindow& w : windows) {
+    for (int y = w.y0; y < w.y0 + n; y += stride) {
+      for (int x = w.x0; x < w.x0 + n; x += stride) {
+        const double v = w.luma->pixels[texel_index(x, y, w.luma->width)];
+        sum += v, sum2 += v * v, ++count;
+      }
+    }
+  }
+  const double mean = sum / static_cast<double>(count);
+  return {mean, std::max(0.0, sum2 / static_cast<double>(count) - mean * mean)};
+}
+
+/// Per lag of `lags` (texels), over the pairs of window `w` whose first
+/// texel lies on the origin grid and whose second (a bilinear lookup) in the
+/// window: Σ (L(x) − μ)(L(x + δ) − μ) into sums[k], the pairs into
+/// counts[k].
+void window_products(const LumaWindow& w, int n, int stride, const std::vector<Vec2>& lags, double mean, double* sums,
+                     double* counts) {
+  const double last_x = w.x0 + n - 1, last_y = w.y0 + n - 1;
+  for (std::size_t k = 0; k < lags.size(); ++k) {
+    const Vec2& d = lags[k];
+    for (int y = w.y0; y < w.y0 + n; y += stride) {
+      const double ey = y + d.y();
+      if (ey < w.y0 || ey > last_y) continue;
+      for (int x = w.x0; x < w.x0 + n; x += stride) {
+        const double ex = x + d.x();
+        if (ex < w.x0 || ex > last_x) continue;
+        float v = 0.0f;
+        sample_bilinear(*w.luma, ex + 0.5, ey + 0.5, &v);
+        sums[k] += (w.luma->pixels[texel_index(x, y, w.luma->width)] - mean) * (v - mean);
+        counts[k] += 1.0;
+      }
+    }
+  }
+}
+
+/// The lags of `length` texels in `directions` directions over [0, π),
+/// components within 1e-9 of a whole texel snapped to it (cos(π/2) is not
+/// 0 in floating point).
+std::vector<Vec2> lag_vectors(double length, int directions) {
+  std::vector<Vec2> lags;
+  for (int k = 0; k < directions; ++k) {
+    const double angle = M_PI * k / directions;
+    Vec2 d = length * Vec2(std::cos(angle), std::sin(angle));
+    for (int c = 0; c < 2; ++c) {
+      if (std::abs(d[c] - std::round(d[c])) < 1e-9) d[c] = std::round(d[c]);
+    }
+    lags.push_back(d);
+  }
+  return lags;
+}
+
+/// The autocorrelation at `lag` over n×n `windows` (Autocorrelation): the
+/// windows in parallel, each its own slot, summed in window order.
+Autocorrelation window_autocorrelation(const std::vector<LumaWindow>& windows, int n, double lag,
+                                       const AutocorrelationOptions& options) {
+  const int directions = options.directions;
+  Autocorrelation out{kNaN, std::vector<double>(static_cast<std::size_t>(directions), kNaN)};
+  if (windows.empty() || n <= 0) return out;
+  const double origins = static_cast<double>(windows.size()) * n * n;
+  const int stride = std::max(1, static_cast<int>(std::ceil(std::sqrt(origins / options.max_origins))));
+  const std::pair<double, double> moments = window_moments(windows, n, stride);
+  const double mean = moments.first, variance = moments.second;  // named: a lambda captures them
+  if (!(variance > 0.0)) return out;
+  const std::vector<Vec2> lags = lag_vectors(lag, directions);
+  const std::size_t slot = 2 * static_cast<std::size_t>(directions);  // sums, then counts
+  std::vector<double> slots(windows.size() * slot, 0.0);
+  tbb::parallel_for(std::size_t(0), windows.size(), [&](std::size_t i) {
+    double* s = slots.data() + i * slot;
+    window_products(windows[i], n, stride, lags, mean, s, s + directions);
+  });
+  double sum = 0.0;
+  int counted = 0;
+  for (int k = 0; k < directions; ++k) {
+    double products = 0.0, pairs = 0.0;
+    for (std::size_t i = 0; i < windows.size(); ++i)
+      products += slots[i * slot + k], pairs += slots[i * slot + directions + k];
+    if (pairs == 0.0) continue;
+    out.by_direction[static_cast<std::size_t>(k)] = products / (pairs * variance);
+    sum += out.by_direction[static_cast<std::size_t>(k)], ++counted;
+  }
+  if (counted > 0) out.mean = sum / counted;
+  return out;
+}
+
+}  // namespace
+
+Autocorrelation luminance_autocorrelation(const Image& image, const std::vector<std::pair<int, int>>& corners, int n,
+                                          double lag, const AutocorrelationOptions& options) {
+  FLUIDTEX_CHECK(options.directions > 0 && options.max_origins > 0);
+  const Image luma = luminance_image(image);
+  std::vector<LumaWindow> windows;
+  for (const auto& [x, y] : corners) {
+    FLUIDTEX_CHECK(x >= 0 && y >= 0 && x + n <= image.width && y + n <= image.height);
+    windows.push_back({&luma, x, y});
+  }
+  return window_autocorrelation(windows, n, lag, options);
+}
+
+Autocorrelation exemplar_autocorrelation(const Exemplar& exemplar, double scale, int n, double lag,
+                                         const AutocorrelationOptions& options) {
+  FLUIDTEX_CHECK(options.directions > 0 && options.max_origins > 0);
+  FLUIDTEX_CHECK_GT(scale, 0.0);
+  const int w = exemplar.image().width, h = exemplar.image().height;
+  std::vector<Image> crops(static_cast<std::size_t>(std::max(0, options.crops)));
+  std::vector<LumaWindow> windows;
+  for (std::size_t k = 0; k < crops.size(); ++k) {
+    const double t = static_cast<double>(k);
+    crops[k] = luminance_image(exemplar_crop(exemplar, w * (0.37 * t), h * (0.61 * t), scale, n));
+    windows.push_back({&crops[k], 0, 0});
+  }
+  return window_autocorrelation(windows, n, lag, options);
+}
+
+LayoutFigures layout_figures(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar, double scale,
+                             double lag, const AutocorrelationOptions& options) {
+  LayoutFigures f{lag, kNaN, kNaN, kNaN, 0};
+  if (!(lag > 0.0) || !(scale > 0.0) || !std::isfinite(lag)) return f;
+  for (double reach : {2.0, 1.5, 1.25}) {
+    const int n = std::max(16, static_cast<int>(std::ceil(reach * lag)) + 2);
+    if (n > atlas.width) continue;
+    const auto windows = chart_windows(mask, atlas.width, n, options.windows);
+    if (windows.empty()) continue;
+    f.window = n;
+    f.atlas = luminance_autocorrelation(atlas, windows, n, lag, options).mean;
+    f.exemplar = exemplar_autocorrelation(exemplar, scale, n, lag, options).mean;
+    f.excess = f.atlas - f.exemplar;
+    return f;
+  }
+  return f;
+}
+
+std::vector<NeighbourPair> neighbour_pairs(const UVMesh& mesh, const SurfaceIndex& surface, int size,
+                                           const std::vector<Vec3>& centres, double density, int n,
+                                           const DirectionFrame& frame) {
+  // Each centre in the atlas through the closest point of the mesh, and the
+  // window of n texels around it.
+  std::vector<Vec2> texels;
+  std::vector<std::pair<int, int>> corners;
+  for (const Vec3& c : centres) {
+    const SurfacePoint s = surface.closest_point(c);
+    const Vec2 uv = s.valid() ? Vec2(interpolate(mesh.uvs, mesh.uv_triangles[s.face], s.bary)) : Vec2(kNaN, kNaN);
+    texels.emplace_back(u_to_px(uv.x(), size), v_to_py(uv.y(), size));
+    const bool inside = texels.back().allFinite();
+    corners.emplace_back(inside ? static_cast<int>(std::floor(texels.back().x() - 0.5 * n)) : 0,
+                         inside ? static_cast<int>(std::floor(texels.back().y() - 0.5 * n)) : 0);
+  }
+  const std::vector<Eigen::Matrix2d> maps = window_frames(mesh, size, corners, n, frame);
+  const std::vector<int> nearest = nearest_others(centres);
+  std::vector<NeighbourPair> pairs;
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    const int j = nearest[i];
+    // Each pair once: a mutual pair from its lower index.
+    if (j < 0 || (nearest[j] == static_cast<int>(i) && j < static_cast<int>(i))) continue;
+    if (!texels[i].allFinite() || !texels[j].allFinite()) continue;
+    const Vec3 chord = centres[j] - centres[i];
+    pairs.push_back({texels[i], texels[j], maps[i], maps[j], density * Vec2(chord.dot(frame.u), chord.dot(frame.v))});
+  }
+  return pairs;
+}
+
+namespace {
+
+/// Whether the side² square of texels centred on texel coordinates
+/// `centre` lies inside a `size`² atlas and wholly inside the charts.
+bool square_inside(const std::vector<char>& mask, int size, const Vec2& centre, int side) {
+  const double x = std::floor(centre.x() - 0.5 * side), y = std::floor(centre.y() - 0.5 * side);
+  if (!(x >= 0.0 && y >= 0.0 && x + side <= size && y + side <= size)) return false;
+  bool inside = true;
+  Rect2i{static_cast<int>(x), static_cast<int>(y), static_cast<int>(x) + side, static_cast<int>(y) + side}.for_each(
+      [&](int i, int j) { inside = inside && mask[texel_index(i, j, size)]; });
+  return inside;
+}
+
+/// The luminance of `crop` into `out` (n² values).
+void crop_luminance(const Image& crop, float* out) {
+  for (std::size_t i = 0; i < crop.pixels.size() / crop.channels; ++i) out[i] = luminance_at<float>(crop, i);
+}
+
+/// The mean over the column pairs (2k, 2k + 1) of `views` of
+/// Σ (a − μ)(b − μ) / (rows · σ²), μ and σ over every entry.
+double pair_correlation(const Windows& views) {
+  const Eigen::MatrixXd v = views.cast<double>();
+  const Eigen::MatrixXd centred = v.array() - v.mean();
+  const double variance = centred.squaredNorm() / static_cast<double>(centred.size());
+  if (!(variance > 0.0)) return kNaN;
+  double sum = 0.0;
+  const Eigen::Index pairs = v.cols() / 2;
+  for (Eigen::Index k = 0; k < pairs; ++k) sum += centred.col(2 * k).dot(centred.col(2 * k + 1));
+  return sum / (static_cast<double>(pairs) * static_cast<double>(v.rows()) * variance);
+}
+
+}  // namespace
+
+namespace {
+
+/// Exemplar crop pairs per neighbour pair: the exemplar's correlation at a
+/// displacement varies with where it is read; more places make the
+/// reference steadier than the atlas's own read.
+constexpr int kReferencesPerPair = 4;
+
+/// The pairs of `pairs` neighbour_figures reads: both views' turned
+/// squares inside the charts, both maps readable.
+std::vector<const NeighbourPair*> readable_pairs(const std::vector<NeighbourPair>& pairs, const std::vector<char>& mask,
+                                                 int size, int n) {
+  const int reach = static_cast<int>(std::ceil(n * M_SQRT2)) + 2;  // a turned view's texels and their neighbours
+  std::vector<const NeighbourPair*> read;
+  for (const NeighbourPair& p : pairs) {
+    if (readable(p.from_map) && readable(p.to_map) && square_inside(mask, size, p.from, reach) &&
+        square_inside(mask, size, p.to, reach))
+      read.push_back(&p);
+  }
+  return read;
+}
+
+/// Into columns `first`, `first` + 1 of `out`: the luminance of two n×n
+/// crops of the exemplar at `scale`, the second `displacement` (atlas
+/// texels, y up) from the first (exemplar_crop reads y down), the first at
+/// the `index`-th of fixed positions spread over the tile.
+void reference_pair(const Exemplar& exemplar, double scale, const Vec2& displacement, std::size_t index, int n,
+                    Windows& out, Eigen::Index first) {
+  const double t = static_cast<double>(index);
+  const Vec2 at(exemplar.image().width * std::fmod(0.37 * t, 1.0), exemplar.image().height * std::fmod(0.61 * t, 1.0));
+  crop_luminance(exemplar_crop(exemplar, at.x(), at.y(), scale, n), out.col(first).data());
+  crop_luminance(
+      exemplar_crop(exemplar, at.x() + displacement.x() * scale, at.y() - displacement.y() * scale, scale, n),
+      out.col(first + 1).data());
+}
+
+}  // namespace
+
+NeighbourFigures neighbour_figures(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar,
+                                   double scale, const std::vector<NeighbourPair>& pairs, int n) {
+  NeighbourFigures f{kNaN, kNaN, kNaN, 0, n};
+  if (!(scale > 0.0) || n <= 0) return f;
+  const std::vector<const NeighbourPair*> read = readable_pairs(pairs, mask, atlas.width, n);
+  if (read.empty()) return f;
+  // Per pair k, its two views (columns 2k, 2k + 1) and kReferencesPerPair
+  // pairs of exemplar crops its displacement apart: each pair its own
+  // columns.
+  const auto count = static_cast<Eigen::Index>(read.size());
+  Windows views(n * n, 2 * count), crops(n * n, 2 * kReferencesPerPair * count);
+  tbb::parallel_for(std::size_t(0), read.size(), [&](std::size_t k) {
+    const NeighbourPair& p = *read[k];
+    const auto c = static_cast<Eigen::Index>(k);
+    atlas_window(atlas, p.from, p.from_map, n, 0.0f, views.col(2 * c).data());
+    atlas_window(atlas, p.to, p.to_map, n, 0.0f, views.col(2 * c + 1).data());
+    for (int r = 0; r < kReferencesPerPair; ++r) {
+      const Eigen::Index index = kReferencesPerPair * c + r;
+      reference_pair(exemplar, scale, p.displacement, static_cast<std::size_t>(index), n, crops, 2 * index);
+    }
+  });
+  f.pairs = static_cast<int>(read.size());
+  f.atlas = pair_correlation(views);
+  f.exemplar = pair_correlation(crops);
+  f.excess = f.atlas - f.exemplar;
+  return f;
 }
 
 }  // namespace fluidtex

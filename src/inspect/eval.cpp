@@ -92,8 +92,9 @@ double exemplar_scale(const TrackingOptions& resolved, const SynthesisJobOptions
   return exemplar.image().width * resolved.uv_scale / (resolved.exemplar_tile_size(so.exemplar_size) * density);
 }
 
-/// The radial spectrum distance of up to 64 atlas windows inside the charts
-/// (64², or 32² or 16² where none fits) to 32 exemplar crops at `scale`.
+/// The radial spectrum distance of the mean log spectrum of up to 64 atlas
+/// windows inside the charts (64², or 32² or 16² where none fits) to that of
+/// 32 exemplar crops at `scale`.
 void spectrum_figures(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar, double scale,
                       MetricRow& row) {
   double spectrum = std::nan("");
@@ -103,10 +104,16 @@ void spectrum_figures(const Image& atlas, const std::vector<char>& mask, const E
     // puts first in scan order.
     const auto windows = chart_windows(mask, atlas.width, n, 64);
     if (windows.empty() || !(scale > 0.0)) continue;
+    // The windows' mean log spectrum against the crops' (exemplar_spectrum):
+    // one window's periodogram is too noisy to compare on its own (a tiled
+    // exemplar's windows scored 0.36 each against the mean of its crops).
     const std::vector<double> reference = exemplar_spectrum(exemplar, scale, n, 32);
-    double sum = 0.0;
-    for (const auto& [x, y] : windows) sum += spectrum_distance(radial_log_spectrum(atlas, x, y, n), reference);
-    spectrum = sum / static_cast<double>(windows.size());
+    std::vector<double> mean(reference.size(), 0.0);
+    for (const auto& [x, y] : windows) {
+      const std::vector<double> s = radial_log_spectrum(atlas, x, y, n);
+      for (std::size_t b = 0; b < s.size(); ++b) mean[b] += s[b] / static_cast<double>(windows.size());
+    }
+    spectrum = spectrum_distance(mean, reference);
     row.emplace_back("spectrum_crop", n);
     break;
   }
@@ -120,6 +127,41 @@ DirectionFrame direction_frame(const FlowMapOptions& flowmap) {
   const Vec2 x = rest_uv(Vec3::UnitX(), flowmap.axis, 1.0), y = rest_uv(Vec3::UnitY(), flowmap.axis, 1.0),
              z = rest_uv(Vec3::UnitZ(), flowmap.axis, 1.0);
   return {Vec3(x.x(), y.x(), z.x()), Vec3(x.y(), y.y(), z.y())};
+}
+
+/// The centres of the frame's live disks (not fading out), scene units.
+std::vector<Vec3> live_centres(const std::vector<Patch>& patches) {
+  std::vector<Vec3> centres;
+  for (const Patch& p : patches) {
+    if (!is_fading_out(p.state)) centres.push_back(p.centre.point.position);
+  }
+  return centres;
+}
+
+/// Whether the patch layout shows (appearance_metrics.h): the
+/// autocorrelation at `lag` atlas texels in 8 directions over the charts,
+/// and, where the frame has live `centres`, the correlation around each
+/// centre and its nearest neighbour (views half a lag wide: the part of
+/// the surface each patch dominates), both against the exemplar's at
+/// `scale`.
+void patch_layout_figures(const TexturedFrame& frame, const std::vector<char>& mask, const Exemplar& exemplar,
+                          double scale, double lag, double density, const std::vector<Vec3>& centres,
+                          const DirectionFrame& directions, MetricRow& row) {
+  const Image& atlas = frame.atlas.first();
+  const LayoutFigures layout = layout_figures(atlas, mask, exemplar, scale, lag);
+  row.emplace_back("layout_lag_px", layout.lag);
+  row.emplace_back("layout_autocorrelation", layout.atlas);
+  row.emplace_back("layout_autocorrelation_exemplar", layout.exemplar);
+  row.emplace_back("layout_autocorrelation_excess", layout.excess);
+  if (centres.empty() || !std::isfinite(lag)) return;
+  const int n = std::max(8, static_cast<int>(std::lround(0.5 * lag)));
+  const NeighbourFigures near =
+      neighbour_figures(atlas, mask, exemplar, scale,
+                        neighbour_pairs(frame.mesh, *frame.surface, atlas.width, centres, density, n, directions), n);
+  row.emplace_back("layout_neighbour_correlation", near.atlas);
+  row.emplace_back("layout_neighbour_correlation_exemplar", near.exemplar);
+  row.emplace_back("layout_neighbour_correlation_excess", near.excess);
+  row.emplace_back("layout_neighbour_pairs", near.pairs);
 }
 
 /// How much the atlas still looks like its exemplar at `scale`
@@ -141,10 +183,14 @@ void appearance_figures(const Image& atlas, const UVMesh& mesh, const std::vecto
 
 /// Contrast, spectrum and appearance of the atlas the run wrote (of UDIM
 /// tiles, 1001), against the exemplar at the atlas's texel density, and the
-/// exemplar's size on the surface asked for and measured. Returns the scale
-/// it measured at (exemplar texels per atlas texel; NaN without uv area).
+/// exemplar's size on the surface asked for and measured. The layout's
+/// autocorrelation is read at the spacing of the live disk `centres`
+/// (mean_nearest_distance), or at the disk radius d where there are none
+/// (a flow map), so that runs compare at about the same lag. Returns the
+/// scale it measured at (exemplar texels per atlas texel; NaN without uv
+/// area).
 double texture_figures(const TexturedFrame& frame, const TrackingOptions& resolved, const JobOptions& job,
-                       const Exemplar& exemplar, MetricRow& row) {
+                       const Exemplar& exemplar, const std::vector<Vec3>& centres, MetricRow& row) {
   const SynthesisJobOptions& so = job.synthesis;
   const Image& atlas = frame.atlas.first();
   const std::vector<char> mask = chart_mask(frame.mesh, atlas.width);
@@ -158,7 +204,11 @@ double texture_figures(const TexturedFrame& frame, const TrackingOptions& resolv
     row.emplace_back(contrast.size() == 1 ? "contrast" : channel[c], contrast[c]);
   row.emplace_back("texel_density", density);
   spectrum_figures(atlas, mask, exemplar, scale, row);
-  appearance_figures(atlas, frame.mesh, mask, exemplar, scale, direction_frame(job.flowmap), row);
+  const DirectionFrame directions = direction_frame(job.flowmap);
+  appearance_figures(atlas, frame.mesh, mask, exemplar, scale, directions, row);
+  const double spacing = mean_nearest_distance(centres);
+  const double lag = (std::isfinite(spacing) ? spacing : resolved.d()) * density;  // atlas texels
+  patch_layout_figures(frame, mask, exemplar, scale, lag, density, centres, directions, row);
   // The exemplar's size on the surface: what the job asked for, and what
   // the atlas shows through the UV mesh.
   const double span = exemplar_span(resolved, so);
@@ -375,15 +425,17 @@ EvalSummary run_eval(const EvalOptions& options, const JobOptions& job_in, Repor
     TexturedFrame current = read_run_frame(atlas_pattern, mesh_pattern, frame);
     MetricRow row{{"frame", frame}};
     const std::string state = state_path(options.run_dir, frame);
+    std::vector<Vec3> centres;  // the live disks', where the frame has patches
     if (std::filesystem::exists(state)) {
       const Tracker tracker = Tracker::load(state, mesh, frame);
       if (!resolved) resolved = tracker.settings().tracking;
       history.add(frame, tracker, row);
       change.add(frame, tracker, sequence.fps(), row);
       patch_figures(tracker, job, exemplar, row);
+      centres = live_centres(tracker.patches());
     }
     if (!resolved) resolved = job.tracking.resolved(bounding_box(*mesh).diagonal());
-    const double scale = texture_figures(current, *resolved, job, exemplar, row);
+    const double scale = texture_figures(current, *resolved, job, exemplar, centres, row);
     if (previous) {
       const LiquidMotion motion = read.motion_between(sequence.frames()[i - 1], frame);
       flow_figures(*previous_mesh, *previous, current, motion, exemplar, options, frame, row);

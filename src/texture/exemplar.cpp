@@ -161,15 +161,6 @@ double through(const std::vector<std::pair<double, double>>& knots, double x, bo
   return value(*below) + t * (value(*above) - value(*below));
 }
 
-/// Linear lookup of a table spread evenly over [low, high], clamped.
-double lookup(const std::vector<float>& table, double low, double high, double x) {
-  const double last = static_cast<double>(table.size() - 1);
-  const double at = high > low ? std::clamp((x - low) / (high - low) * last, 0.0, last) : 0.0;
-  const std::size_t below = std::min(static_cast<std::size_t>(at), table.size() - 2);
-  const double t = at - static_cast<double>(below);
-  return (1.0 - t) * table[below] + t * table[below + 1];
-}
-
 }  // namespace
 
 GaussianExemplar::GaussianExemplar(const Exemplar& exemplar) : channels_(exemplar.channels()) {
@@ -187,15 +178,24 @@ GaussianExemplar::GaussianExemplar(const Exemplar& exemplar) : channels_(exempla
       values[i] = v;
     }
     const std::vector<std::pair<double, double>> knots = cdf_knots(values);
-    axis.low = knots.front().first, axis.high = knots.back().first;
-    axis.forward.resize(kTable), axis.inverse.resize(kTable);
+    const double low = knots.front().first, high = knots.back().first;
+    axis.forward = {low, high > low ? (kTable - 1) / (high - low) : 0.0, std::vector<float>(kTable)};
+    axis.inverse = {-kRange, (kTable - 1) / (2.0 * kRange), std::vector<float>(kTable)};
     for (int j = 0; j < kTable; ++j) {
-      const double x = axis.low + (axis.high - axis.low) * j / (kTable - 1);
-      axis.forward[j] = static_cast<float>(normal_quantile(through(knots, x, false)));
+      const double x = low + (high - low) * j / (kTable - 1);
+      axis.forward.values[j] = static_cast<float>(normal_quantile(through(knots, x, false)));
       const double g = kRange * (2.0 * j / (kTable - 1) - 1.0);
-      axis.inverse[j] = static_cast<float>(through(knots, normal_cdf(g), true));
+      axis.inverse.values[j] = static_cast<float>(through(knots, normal_cdf(g), true));
     }
   }
+}
+
+double GaussianExemplar::Table::at(double x) const {
+  const double last = static_cast<double>(values.size() - 1);
+  const double t = std::clamp((x - origin) * per_step, 0.0, last);
+  const std::size_t below = std::min(static_cast<std::size_t>(t), values.size() - 2);
+  const double f = t - static_cast<double>(below);
+  return values[below] + f * (values[below + 1] - values[below]);
 }
 
 void GaussianExemplar::to_gaussian(const float* colour, double* g) const {
@@ -203,13 +203,13 @@ void GaussianExemplar::to_gaussian(const float* colour, double* g) const {
     const Axis& axis = axes_[k];
     double v = 0.0;
     for (int c = 0; c < channels_; ++c) v += axis.direction[c] * (colour[c] - mean_[c]);
-    g[k] = lookup(axis.forward, axis.low, axis.high, v);
+    g[k] = axis.forward.at(v);
   }
 }
 
 void GaussianExemplar::to_colour(const double* g, float* out) const {
   std::array<double, 3> along{};
-  for (int k = 0; k < channels_; ++k) along[k] = lookup(axes_[k].inverse, -kRange, kRange, g[k]);
+  for (int k = 0; k < channels_; ++k) along[k] = axes_[k].inverse.at(g[k]);
   for (int c = 0; c < channels_; ++c) {
     double v = mean_[c];
     for (int k = 0; k < channels_; ++k) v += along[k] * axes_[k].direction[c];

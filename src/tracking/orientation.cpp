@@ -4,6 +4,9 @@
 
 #include <Eigen/Geometry>  // Rotation2D
 
+#include "fluidtex/geometry/point_index.h"
+#include "fluidtex/util/random.h"
+
 namespace fluidtex {
 
 Vec3 u_axis(const Patch& patch, const Tri& t) {
@@ -145,6 +148,38 @@ double orientation_angle(const Patch& fresh, const OrientationContext& context, 
   // The target direction lies at angle φ in the patch's uv; turning the uv
   // by −φ puts it along u.
   return target.squaredNorm() > 0.0 ? -std::atan2(target.y(), target.x()) : 0.0;
+}
+
+double anchor_distance(const Vec2& a, const Vec2& b) {
+  const auto wrapped = [](double t) {
+    const double f = std::abs(t - std::floor(t));
+    return std::min(f, 1.0 - f);
+  };
+  return std::hypot(wrapped(a.x() - b.x()), wrapped(a.y() - b.y()));
+}
+
+void separate_anchors(const std::vector<Patch*>& fresh, const std::vector<Patch>& live, double d, std::uint64_t seed) {
+  PointIndex centres;
+  std::vector<const Patch*> owner;
+  for (const Patch& p : live) centres.add(p.centre.point.position), owner.push_back(&p);
+  std::vector<int> near;
+  for (Patch* p : fresh) {
+    centres.within(p->centre.point.position, kNeighbourSpan * d, near);
+    std::vector<Vec2> taken;
+    for (int i : near) {
+      if (owner[i]->centre.normal.dot(p->centre.normal) > 0.0) taken.push_back(owner[i]->anchor);
+    }
+    double best = -1.0;
+    for (int k = 0; k < kAnchorDraws && best < kAnchorSeparation; ++k) {
+      const auto draw = static_cast<std::uint64_t>(2 * k);
+      const Vec2 anchor(uniform(seed, Stream::PatchAnchor, p->id, draw),
+                        uniform(seed, Stream::PatchAnchor, p->id, draw + 1));
+      double nearest = 2.0;  // farther than any two anchors
+      for (const Vec2& a : taken) nearest = std::min(nearest, anchor_distance(anchor, a));
+      if (nearest > best) best = nearest, p->anchor = anchor;
+    }
+    centres.add(p->centre.point.position), owner.push_back(p);
+  }
 }
 
 }  // namespace fluidtex

@@ -535,6 +535,13 @@ void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<Surfa
     update_distortion(*built[i], surface, o);
   });
   next_id_ += static_cast<std::uint32_t>(fresh.size());
+  if (o.orientation != Orientation::Random) {
+    std::vector<Patch*> batch;
+    for (std::optional<Patch>& p : built) {
+      if (p) batch.push_back(&*p);
+    }
+    separate_anchors(batch, patches_, o.d(), settings_.seed);
+  }
   for (std::optional<Patch>& p : built) {
     if (!p) {
       ++report.failed;

@@ -21,10 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Runs the small rotation scene with `orientation` and compares its three
+/// Runs the small rotation scene with `orientation` and `sharpness` and compares its three
 /// atlases with those in tests/golden/`folder`, within `tolerance` per
 /// channel (0: byte for byte).
-void expect_golden(Orientation orientation, const char* folder, float tolerance) {
+void expect_golden(Orientation orientation, double sharpness, const char* folder, float tolerance) {
   test::TempDir dir;
   test::write_rotation_scene(dir.path(), 3, 12, "gravel.exr", 32, 4);
   JobOptions job;
@@ -33,6 +33,7 @@ void expect_golden(Orientation orientation, const char* folder, float tolerance)
   job.output.dir = dir.file("out");
   job.synthesis.atlas.size = 64;
   job.tracking.orientation = orientation;
+  job.synthesis.sharpness = sharpness;
   job.seed = 11;
   run_job(job, silent_reporter());
 
@@ -59,11 +60,13 @@ void expect_golden(Orientation orientation, const char* folder, float tolerance)
   }
 }
 
-TEST(Golden, SmallRotationAtlasesMatch) { expect_golden(TrackingOptions{}.orientation, "default", 2e-3f); }
+TEST(Golden, SmallRotationAtlasesMatch) {
+  expect_golden(TrackingOptions{}.orientation, SynthesisJobOptions{}.sharpness, "default", 2e-3f);
+}
 
-/// The paper's orientation (each patch as LSCM leaves it) and blend give
+/// The paper's orientation (each patch as LSCM leaves it) and weights give
 /// the atlases they gave before patches were oriented, texel for texel.
-TEST(Golden, RandomOrientationKeepsThePapersAtlases) { expect_golden(Orientation::Random, "random", 0.0f); }
+TEST(Golden, RandomOrientationKeepsThePapersAtlases) { expect_golden(Orientation::Random, 1.0, "random", 0.0f); }
 
 }  // namespace
 }  // namespace fluidtex

@@ -128,6 +128,35 @@ TEST(Orientation, FlowFollowsAFastSurface) {
   for (const Patch& p : slow.patches()) EXPECT_LT(degrees_between(patch_u_axis(p, 0.12), Vec3::UnitX()), 1.0);
 }
 
+TEST(Orientation, AnchorDistanceWrapsAroundTheTile) {
+  EXPECT_NEAR(anchor_distance(Vec2(0.05, 0.5), Vec2(0.95, 0.5)), 0.1, 1e-12);
+  EXPECT_NEAR(anchor_distance(Vec2(0.1, 0.1), Vec2(0.4, 0.5)), 0.5, 1e-12);
+  EXPECT_NEAR(anchor_distance(Vec2(0.0, 0.0), Vec2(0.5, 0.5)), std::sqrt(0.5), 1e-12);
+}
+
+/// The share of neighbouring pairs (centres within kNeighbourSpan·d) whose
+/// anchors lie closer than kAnchorSeparation, after frame 1 of a plane.
+double close_anchor_share(Orientation orientation) {
+  Tracker t(settings(orientation));
+  t.step(plane(), 1, 1.0 / 24);
+  const std::vector<Patch>& p = t.patches();
+  int pairs = 0, close = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      if ((p[i].centre.point.position - p[j].centre.point.position).norm() >= kNeighbourSpan * 0.12) continue;
+      ++pairs;
+      close += anchor_distance(p[i].anchor, p[j].anchor) < kAnchorSeparation;
+    }
+  }
+  EXPECT_GT(pairs, 50);
+  return static_cast<double>(close) / pairs;
+}
+
+TEST(Orientation, NeighboursShowDifferentPartsOfTheExemplar) {
+  EXPECT_LT(close_anchor_share(Orientation::Field), 0.02);
+  EXPECT_GT(close_anchor_share(Orientation::Random), 0.08);  // π·0.25² of pairs drawn at random
+}
+
 // --- What synthesis shows ------------------------------------------------------
 
 /// Tileable stripes, 64², wave vector (4, 2) cycles per tile in (u, v).

@@ -22,7 +22,16 @@
 /// - the colour distribution: the 1-D Wasserstein distance (earth mover's
 ///   distance; Rubner, Tomasi and Guibas 2000) between the chart texels'
 ///   values and the resampled exemplar's, per channel, in units of the
-///   exemplar's σ.
+///   exemplar's σ;
+/// - whether the patch layout shows: the normalized autocorrelation of
+///   luminance at a lag of the patch spacing, against the exemplar's own at
+///   the same lag. Where neighbouring patches show the same exemplar region,
+///   the same feature repeats at the patch spacing and the atlas correlates
+///   there more than the exemplar does. Read in fixed directions over the
+///   charts (layout_figures) it sees a repeat on a lattice; the repeats of
+///   an irregular (Poisson disk) layout lie each at its own displacement,
+///   which only the correlation around each pair of neighbouring centres
+///   at their displacement sees (neighbour_figures).
 ///
 /// Directions and windows are read on the surface, not in the atlas: the
 /// UV mesh maps each atlas window to a plane fixed in the world
@@ -43,6 +52,7 @@
 #include <Eigen/Core>
 
 #include "fluidtex/geometry/image.h"
+#include "fluidtex/geometry/surface.h"
 #include "fluidtex/geometry/uv_mesh.h"
 #include "fluidtex/texture/exemplar.h"
 
@@ -200,5 +210,118 @@ double wasserstein_1d(std::vector<double> a, std::vector<double> b);
 /// when no texel is in the charts.
 double value_histogram_distance(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar,
                                 double scale);
+
+/// Per point of `points`, the index of the nearest other (on nanoflann's
+/// k-d tree, PointIndex; of two as near, the lower index); −1 for a lone
+/// point.
+std::vector<int> nearest_others(const std::vector<Vec3>& points);
+
+/// The mean over `points` of the distance to the nearest other point
+/// (nearest_others): the spacing of a layout of disk centres, in the
+/// points' units. NaN with fewer than two points.
+double mean_nearest_distance(const std::vector<Vec3>& points);
+
+/// Settings of the autocorrelation measures.
+struct AutocorrelationOptions {
+  /// Directions of the lag over [0, π), π/directions apart (δ and −δ pair the
+  /// same texels: twice as many over the circle).
+  int directions = 8;
+  int windows = 64;  ///< atlas windows inside the charts, at most (chart_windows)
+  int crops = 16;    ///< exemplar crops, at fixed offsets over the tile
+  /// Texels taken as a pair's first over all windows, at most: a coarser
+  /// grid of them beyond (the same grid on every call).
+  int max_origins = 1 << 19;
+};
+
+/// A normalized autocorrelation at one lag: per direction, the mean over
+/// the texel pairs (x, x + δ) of (L(x) − μ)(L(x + δ) − μ)/σ²; 1 for a texture
+/// that repeats at δ, about 0 for one that does not correlate that far.
+struct Autocorrelation {
+  double mean = 0.0;                 ///< over the directions that have pairs; NaN when none has
+  std::vector<double> by_direction;  ///< direction k at kπ/directions from the image's +x; NaN without pairs
+};
+
+/// The autocorrelation of the luminance of `image` at `lag` texels over its
+/// n×n windows whose top-left corners are `corners` (each inside the image):
+/// pairs whose both texels lie in one window (the second a bilinear lookup
+/// at x + δ), μ and σ over the windows' texels. Read inside windows that lie
+/// wholly inside the charts, the lag is one on the surface (a chart turns,
+/// mirrors and scales the surface by about the texel density; the
+/// directions cover the circle); pairs across a seam are not read.
+/// Deterministic and the same for any thread count (a slot per window,
+/// summed in order).
+Autocorrelation luminance_autocorrelation(const Image& image, const std::vector<std::pair<int, int>>& corners, int n,
+                                          double lag, const AutocorrelationOptions& options = {});
+
+/// The same over options.crops n×n crops of the exemplar resampled at
+/// `scale` exemplar texels per texel (exemplar_crop: tiled, unturned), at
+/// fixed offsets spread over the tile: what an atlas shows at `lag` where
+/// the exemplar lands at that scale without a patch layout.
+Autocorrelation exemplar_autocorrelation(const Exemplar& exemplar, double scale, int n, double lag,
+                                         const AutocorrelationOptions& options = {});
+
+/// How much the patch layout shows in an atlas (layout_figures).
+struct LayoutFigures {
+  double lag = 0.0;       ///< atlas texels: the patch spacing at the texel density
+  double atlas = 0.0;     ///< the chart texels' autocorrelation at `lag` (Autocorrelation::mean)
+  double exemplar = 0.0;  ///< the resampled exemplar's
+  double excess = 0.0;    ///< atlas − exemplar: > 0 where features repeat at the patch spacing
+  int window = 0;         ///< the windows' side, atlas texels
+};
+
+/// luminance_autocorrelation of the chart texels of `atlas` (`mask`, as
+/// chart_mask) at `lag` atlas texels over windows of about 2·lag (1.5·lag
+/// or 1.25·lag where none lies inside the charts; at least 16 texels),
+/// against exemplar_autocorrelation at `scale` exemplar texels per atlas
+/// texel over crops of the same side. Every figure but the lag NaN when no
+/// window lies inside the charts or the lag or scale is not positive.
+LayoutFigures layout_figures(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar, double scale,
+                             double lag, const AutocorrelationOptions& options = {});
+
+/// Two neighbouring patch centres as an atlas shows them (neighbour_pairs).
+struct NeighbourPair {
+  Vec2 from, to;                     ///< atlas texel coordinates (x right, y down) of the centres
+  Eigen::Matrix2d from_map, to_map;  ///< the surface's map there (window_frames' around each)
+  Vec2 displacement;                 ///< from → to on the surface in frame coordinates, atlas texels (x right, y up)
+};
+
+/// Each of `centres` (scene units, on the surface `mesh` carries; `surface`
+/// indexes its triangles, as TexturedFrame's does) with the nearest other
+/// (nearest_others), located in a `size`² atlas through the closest point
+/// of `mesh`, with the maps of windows of `n` texels around each
+/// (window_frames) and their displacement, the 3D chord projected on
+/// `frame`'s plane at `density` atlas texels per scene unit.
+std::vector<NeighbourPair> neighbour_pairs(const UVMesh& mesh, const SurfaceIndex& surface, int size,
+                                           const std::vector<Vec3>& centres, double density, int n,
+                                           const DirectionFrame& frame = {});
+
+/// Whether neighbouring patches show the same texture where they lie
+/// (neighbour_figures).
+struct NeighbourFigures {
+  double atlas = 0.0;     ///< mean over the pairs of the correlation of the views around their two centres
+  double exemplar = 0.0;  ///< the same of the exemplar resampled, at the pairs' displacements
+  double excess = 0.0;    ///< atlas − exemplar: > 0 where neighbours show the same part of the exemplar
+  int pairs = 0;          ///< pairs read
+  int window = 0;         ///< the views' side, atlas texels
+};
+
+/// The normalized autocorrelation of the atlas at each pair's displacement,
+/// read around its centres on the surface: the n×n views of `atlas` around
+/// the two centres as the surface shows them (surface_view), correlated
+/// as Σ (A − μ)(B − μ) / (n² σ²), μ and σ over every view's luminance, and
+/// averaged over the pairs; against the same of 4 pairs per pair of n×n
+/// crops of the exemplar at `scale` exemplar texels per atlas texel
+/// (exemplar_crop, unturned, at fixed positions over the tile) the pair's
+/// displacement apart: the correlation of two places that far apart on the
+/// exemplar unbroken. Views about half the spacing wide (as eval takes
+/// them) hold the part of the surface each patch dominates. Patches that show the same part of the exemplar at their
+/// spacing correlate up to 1 (the repeat this catches, whatever the
+/// direction and distance of each neighbour); patches with independent
+/// anchors as the exemplar does. A pair is read where both views' turned
+/// squares lie inside the charts (`mask`) and both maps keep directions
+/// readable. Every figure NaN without such a pair. Deterministic and the
+/// same for any thread count.
+NeighbourFigures neighbour_figures(const Image& atlas, const std::vector<char>& mask, const Exemplar& exemplar,
+                                   double scale, const std::vector<NeighbourPair>& pairs, int n);
 
 }  // namespace fluidtex

@@ -105,7 +105,7 @@ struct SynthesisJobOptions {
   ColorSpaceOptions color;                           ///< --ocio-config and the --*-colorspace names
   Blend blend = Blend::ContrastPreserving;           ///< --blend
   double weight_cutoff = 0.1;                        ///< --weight-cutoff (SynthesisOptions::weight_cutoff)
-  double sharpness = 1.0;                            ///< --blend-sharpness (SynthesisOptions::sharpness)
+  double sharpness = 3.0;                            ///< --blend-sharpness (SynthesisOptions::sharpness; docs/look.md)
   SynthesisScheme scheme = SynthesisScheme::Raster;  ///< --synthesis
   std::vector<std::string> aov;                      ///< --aov: the AOV layers of kFrameLayers
   bool displacement = false;                         ///< --displacement: one-channel height atlas from a grey exemplar

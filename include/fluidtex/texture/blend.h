@@ -60,7 +60,11 @@ class Blender {
 /// leaves the weights; larger p narrows the transitions between patches, so
 /// more texels show one patch alone.
 inline double sharpened(double w, double w_max, double p) {
-  return p == 1.0 || !(w > 0.0) ? w : w_max * std::pow(w / w_max, p);
+  if (p == 1.0 || !(w > 0.0)) return w;
+  const double t = w / w_max;
+  if (p == 2.0) return w_max * t * t;  // the common exponents without pow
+  if (p == 3.0) return w_max * t * t * t;
+  return w_max * std::pow(t, p);
 }
 
 }  // namespace fluidtex

@@ -70,12 +70,18 @@ class GaussianExemplar {
   static constexpr double kRange = 6.0;
 
  private:
+  /// A function tabulated at points spread evenly from `origin`, `step`
+  /// apart; linear in between, its end values beyond.
+  struct Table {
+    double origin = 0.0, per_step = 0.0;  ///< per_step: 1 / step (0: a constant)
+    std::vector<float> values;
+    double at(double x) const;
+  };
   /// One principal axis: its direction and the two tables.
   struct Axis {
     std::array<double, 3> direction{};
-    double low = 0.0, high = 0.0;  ///< the range of the values along it
-    std::vector<float> forward;    ///< G at values spread evenly over [low, high]
-    std::vector<float> inverse;    ///< value at G spread evenly over [−kRange, kRange]
+    Table forward;  ///< G of the values along it, over their range
+    Table inverse;  ///< the value of G, over [−kRange, kRange]
   };
   int channels_ = 3;
   std::array<double, 3> mean_{};

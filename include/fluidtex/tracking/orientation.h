@@ -1,6 +1,9 @@
 /// @file orientation.h
-/// @brief Which way a new patch shows its exemplar: the turn of its uv
-/// about its centre, chosen once when it is born (Praun, Finkelstein and
+/// @brief How a new patch shows its exemplar, chosen once when it is born:
+/// the turn of its uv about its centre, and which part of the exemplar it
+/// shows (its anchor, apart from its neighbours').
+///
+/// The turn (Praun, Finkelstein and
 /// Hoppe 2000, "Lapped Textures": patches oriented by a tangent direction
 /// field). LSCM (parameterization.h) leaves a chart at an arbitrary
 /// rotation, so without a turn every patch shows the exemplar at its own
@@ -16,6 +19,7 @@
 /// it. A recut (recut_patch) keeps the orientation of the patch it replaces.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "fluidtex/geometry/surface.h"
@@ -57,6 +61,30 @@ struct OrientationContext {
   const PatchCoverage* coverage = nullptr;  ///< over `live`; null when `live` is empty
   double dt = 0.0;                          ///< seconds per frame (Flow)
 };
+
+/// Patches whose centres lie closer than this many disk radii are
+/// neighbours (their disks overlap) for separate_anchors.
+inline constexpr double kNeighbourSpan = 2.0;
+/// The least distance, in exemplar tiles on the torus the tiled exemplar
+/// makes, between the anchors of two neighbouring patches.
+inline constexpr double kAnchorSeparation = 0.25;
+/// Anchors drawn for a new patch before the farthest is taken.
+inline constexpr int kAnchorDraws = 8;
+
+/// Distance of two anchors on the torus of the tiled exemplar (tiles).
+double anchor_distance(const Vec2& a, const Vec2& b);
+
+/// Gives each of `fresh` (a batch of new patches, in order) an anchor apart
+/// from its neighbours' (kNeighbourSpan, same side of the surface: normals
+/// at less than 90°) among `live` and the earlier patches of the batch, so
+/// that neighbours never show the same part of the exemplar and the patch
+/// spacing does not show as a repeat: the first of kAnchorDraws anchors
+/// drawn from (seed, patch id) at least kAnchorSeparation from all of
+/// theirs, else the draw farthest from the nearest of them. The first draw
+/// is the anchor build_patch gives, so a patch without neighbours keeps it.
+/// A recut patch's texture offset is not part of the comparison: anchors
+/// are in tiles, the offset in scene units (the tile's span is the job's).
+void separate_anchors(const std::vector<Patch*>& fresh, const std::vector<Patch>& live, double d, std::uint64_t seed);
 
 /// The angle by which turn_uv turns a new patch so that its u axis follows
 /// options.orientation (0 for Random): per triangle of the patch inside its
