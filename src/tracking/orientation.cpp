@@ -171,7 +171,7 @@ void separate_anchors(const std::vector<Patch*>& fresh, const std::vector<Patch>
     }
     double best = -1.0;
     for (int k = 0; k < kAnchorDraws && best < kAnchorSeparation; ++k) {
-      const auto draw = static_cast<std::uint64_t>(2 * k);
+      const std::uint64_t draw = 2 * static_cast<std::uint64_t>(k);
       const Vec2 anchor(uniform(seed, Stream::PatchAnchor, p->id, draw),
                         uniform(seed, Stream::PatchAnchor, p->id, draw + 1));
       double nearest = 2.0;  // farther than any two anchors
