@@ -231,17 +231,17 @@ struct Contributor {
   /// a weight that counts.
   void blend(const Accumulator& acc, std::vector<TexelSum>& sums) const {
     const int nc = blender.channels();
-    double centred[3] = {0, 0, 0};
+    double term[3] = {0, 0, 0};
     for (const Contribution& k : acc.list) {
       if (!(k.core > 0.0)) continue;
       const std::size_t i = k.texel;
       const double core = cut(k.core, acc.max_core[i]);
       if (!(core > 0.0) && !(k.tail > 0.0 && tail_share(acc.sum_core[i]) > 0.0)) continue;
-      sample(k.patch, k.uv, centred);
+      sample(k.patch, k.uv, term);
       TexelSum& s = sums[i];
       for (int c = 0; c < nc; ++c) {
-        s.sum[c] += core * centred[c];
-        s.tail_sum[c] += k.tail * centred[c];
+        s.sum[c] += core * term[c];
+        s.tail_sum[c] += k.tail * term[c];
       }
       s.sum_w += core;
       s.sum_w2 += core * core;
@@ -256,9 +256,9 @@ struct Contributor {
       const std::size_t i = k.texel;
       const double lambda = tail_share(acc.sum_core[i]);
       if (!(lambda > 0.0)) continue;
-      sample(k.patch, k.uv, centred);
+      sample(k.patch, k.uv, term);
       TexelSum& s = sums[i];
-      for (int c = 0; c < nc; ++c) s.tail_sum[c] += k.tail * centred[c];
+      for (int c = 0; c < nc; ++c) s.tail_sum[c] += k.tail * term[c];
       s.tail_w += k.tail;
       s.tail_w2 += k.tail * k.tail;
       ++s.tail_count;
