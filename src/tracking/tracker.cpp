@@ -523,7 +523,7 @@ void Tracker::build_patches(const SurfaceIndex& surface, const std::vector<Surfa
   // Built in parallel; ids are fixed before the loop. Each is turned to
   // the orientation field of the patches there before the batch.
   std::unique_ptr<PatchCoverage> coverage;
-  if (o.orientation != Orientation::Random && !patches_.empty())
+  if (o.orientation != Orientation::Random && !patches_.empty() && !fresh.empty())
     coverage = std::make_unique<PatchCoverage>(patches_, o.mpt());
   const OrientationContext orient{surface, patches_, coverage.get(), step_dt_};
   std::vector<std::optional<Patch>> built(fresh.size());
